@@ -1,0 +1,349 @@
+//! The focus body `H = hull(V ∪ {l}) ∩ S ∩ L` and its rounded output form.
+
+use crate::error::{check_finite, GeomError};
+use crate::frustum::{Apex, Frustum};
+use crate::polytope::Polytope;
+use crate::{MAX_FACES, MAX_FACE_INDICES, MAX_VERTICES};
+use glam::{DVec3, DVec4};
+
+/// A closed axis-aligned box; zero thickness on any axis is allowed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    pub min: DVec3,
+    pub max: DVec3,
+}
+
+impl Aabb {
+    pub fn new(min: DVec3, max: DVec3) -> Result<Aabb, GeomError> {
+        let b = Aabb { min, max };
+        b.validate()?;
+        Ok(b)
+    }
+
+    pub(crate) fn validate(&self) -> Result<(), GeomError> {
+        check_finite(self.min, "scene box min")?;
+        check_finite(self.max, "scene box max")?;
+        for axis in 0..3 {
+            if self.min[axis] > self.max[axis] {
+                return Err(GeomError::InvertedBox { axis });
+            }
+        }
+        Ok(())
+    }
+
+    /// The smallest box containing the points (exact: no arithmetic).
+    pub fn around(points: &[DVec3]) -> Option<Aabb> {
+        let first = *points.first()?;
+        let (mut min, mut max) = (first, first);
+        for p in points {
+            min = min.min(*p);
+            max = max.max(*p);
+        }
+        Some(Aabb { min, max })
+    }
+
+    /// Whether `p` lies in the closed box (exact comparisons).
+    pub fn contains(&self, p: DVec3) -> bool {
+        p.cmpge(self.min).all() && p.cmple(self.max).all()
+    }
+}
+
+/// A light. A directional light is the point at infinity it comes from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Light {
+    /// Light travelling along `direction` (from the light into the scene).
+    Directional { direction: DVec3 },
+    /// An omnidirectional point light.
+    Point { position: DVec3 },
+    /// A spot light: its apex and the frustum it lights.
+    Spot { position: DVec3, frustum: Frustum },
+}
+
+impl Light {
+    pub fn directional(direction: DVec3) -> Result<Light, GeomError> {
+        let l = Light::Directional { direction };
+        l.validate()?;
+        Ok(l)
+    }
+
+    pub fn point(position: DVec3) -> Result<Light, GeomError> {
+        let l = Light::Point { position };
+        l.validate()?;
+        Ok(l)
+    }
+
+    pub fn spot(position: DVec3, frustum: Frustum) -> Result<Light, GeomError> {
+        let l = Light::Spot { position, frustum };
+        l.validate()?;
+        Ok(l)
+    }
+
+    pub(crate) fn validate(&self) -> Result<(), GeomError> {
+        match *self {
+            Light::Directional { direction } => {
+                check_finite(direction, "light direction")?;
+                if direction == DVec3::ZERO {
+                    return Err(GeomError::ZeroDirection { what: "light direction" });
+                }
+                Ok(())
+            }
+            Light::Point { position } | Light::Spot { position, .. } => check_finite(position, "light position"),
+        }
+    }
+
+    /// The light as a homogeneous point (at infinity for directional lights).
+    pub fn apex(&self) -> Apex {
+        match *self {
+            Light::Directional { direction } => Apex::Infinite(-direction),
+            Light::Point { position } | Light::Spot { position, .. } => Apex::Finite(position),
+        }
+    }
+}
+
+/// Dimension of a focus body.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Dimension {
+    Empty,
+    Point,
+    Segment,
+    Polygon,
+    Solid,
+}
+
+impl Dimension {
+    /// −1 for empty, else the affine dimension.
+    pub fn as_i32(self) -> i32 {
+        match self {
+            Dimension::Empty => -1,
+            Dimension::Point => 0,
+            Dimension::Segment => 1,
+            Dimension::Polygon => 2,
+            Dimension::Solid => 3,
+        }
+    }
+
+    fn from_i8(d: i8) -> Dimension {
+        match d {
+            0 => Dimension::Point,
+            1 => Dimension::Segment,
+            2 => Dimension::Polygon,
+            3 => Dimension::Solid,
+            _ => Dimension::Empty,
+        }
+    }
+}
+
+/// What a focus-body computation did and skipped.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct FocusStats {
+    /// `S` was not clipped because `hull(V ∪ {l}) ⊆ S` (V and l inside S).
+    pub scene_clip_skipped: bool,
+    /// `L` was not clipped (no spot light).
+    pub light_clip_skipped: bool,
+    /// Halfspaces offered to the clipper.
+    pub planes_offered: u16,
+    /// Halfspaces that actually cut.
+    pub planes_cut: u16,
+    /// Stopped early because the body became empty.
+    pub early_exit: bool,
+    /// Predicates the floating-point filter could not decide (exact path).
+    pub exact_evaluations: u32,
+}
+
+/// A focus body with rounded vertices: a fixed-capacity value, reusable
+/// across frames without allocation.
+#[derive(Clone)]
+pub struct Body {
+    pub(crate) dim: i8,
+    pub(crate) verts: [DVec3; MAX_VERTICES],
+    pub(crate) n_verts: usize,
+    pub(crate) idx: [u16; MAX_FACE_INDICES],
+    pub(crate) face_start: [u16; MAX_FACES + 1],
+    pub(crate) face_planes: [DVec4; MAX_FACES],
+    pub(crate) n_faces: usize,
+    pub(crate) volume: f64,
+    pub(crate) stats: FocusStats,
+    /// Scratch space for the exact computation, kept so that reuse of a
+    /// `Body` costs no re-initialisation.
+    work: Option<Polytope>,
+}
+
+impl Default for Body {
+    fn default() -> Self {
+        Body::new()
+    }
+}
+
+impl std::fmt::Debug for Body {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Body")
+            .field("dimension", &self.dimension())
+            .field("vertices", &self.vertices())
+            .field("faces", &self.faces().collect::<Vec<_>>())
+            .field("volume", &self.volume)
+            .finish()
+    }
+}
+
+impl Body {
+    /// An empty body.
+    pub fn new() -> Body {
+        Body {
+            dim: -1,
+            verts: [DVec3::ZERO; MAX_VERTICES],
+            n_verts: 0,
+            idx: [0; MAX_FACE_INDICES],
+            face_start: [0; MAX_FACES + 1],
+            face_planes: [DVec4::ZERO; MAX_FACES],
+            n_faces: 0,
+            volume: 0.0,
+            stats: FocusStats::default(),
+            work: None,
+        }
+    }
+
+    pub(crate) fn clear(&mut self) {
+        self.dim = -1;
+        self.n_verts = 0;
+        self.n_faces = 0;
+        self.volume = 0.0;
+    }
+
+    pub fn dimension(&self) -> Dimension {
+        Dimension::from_i8(self.dim)
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.dim < 0
+    }
+
+    /// Rounded vertices; every exact vertex is within a few ulps (of the
+    /// inputs' magnitude) of its rounded counterpart.
+    pub fn vertices(&self) -> &[DVec3] {
+        &self.verts[..self.n_verts]
+    }
+
+    pub fn face_count(&self) -> usize {
+        self.n_faces
+    }
+
+    /// Face `i` as vertex indices, counter-clockwise seen from outside (for
+    /// a polygon: seen from the side its face plane's normal points to).
+    pub fn face(&self, i: usize) -> &[u16] {
+        &self.idx[self.face_start[i] as usize..self.face_start[i + 1] as usize]
+    }
+
+    pub fn faces(&self) -> impl Iterator<Item = &[u16]> + '_ {
+        (0..self.n_faces).map(move |i| self.face(i))
+    }
+
+    /// Per face: unit outward normal (xyz) and offset (w); inside is
+    /// `n · p + w ≤ 0`. Rounded from the exact plane.
+    pub fn face_planes(&self) -> &[DVec4] {
+        &self.face_planes[..self.n_faces]
+    }
+
+    /// Volume from the rounded vertices (0 unless solid).
+    pub fn volume(&self) -> f64 {
+        self.volume
+    }
+
+    pub fn stats(&self) -> &FocusStats {
+        &self.stats
+    }
+
+    /// The exact (unrounded) body behind the rounded one, for exact
+    /// containment queries. `None` before the first computation.
+    pub fn exact(&self) -> Option<&Polytope> {
+        self.work.as_ref()
+    }
+
+    /// The smallest box around the rounded vertices, `None` when empty.
+    pub fn bounds(&self) -> Option<Aabb> {
+        Aabb::around(self.vertices())
+    }
+
+    pub(crate) fn compute_volume(&self) -> f64 {
+        if self.dim != 3 || self.n_verts == 0 {
+            return 0.0;
+        }
+        // NOTE: tetrahedra from a vertex of the body rather than the origin:
+        // far from the origin, origin-based terms cancel catastrophically.
+        let r = self.verts[0];
+        let mut six_v = 0.0;
+        for f in self.faces() {
+            let a = self.verts[f[0] as usize] - r;
+            for k in 1..f.len() - 1 {
+                let b = self.verts[f[k] as usize] - r;
+                let c = self.verts[f[k + 1] as usize] - r;
+                six_v += a.dot(b.cross(c));
+            }
+        }
+        six_v / 6.0
+    }
+}
+
+/// Computes `H = hull(V ∪ {l}) ∩ S ∩ L` (see [`focus_body_into`]).
+pub fn focus_body(view: &Frustum, light: &Light, scene: &Aabb) -> Result<Body, GeomError> {
+    let mut b = Body::new();
+    focus_body_into(&mut b, view, light, scene)?;
+    Ok(b)
+}
+
+/// Computes the focus body into a reusable `Body`, without allocating once
+/// `out` has been used before.
+///
+/// Work skipped when a case does not need it:
+/// - `L` is clipped only for spot lights;
+/// - for point and spot lights with `V ⊆ S` and `l ∈ S`, `hull(V ∪ {l}) ⊆ S`
+///   by convexity, so the computation starts from the (smaller) box around
+///   `V ∪ {l}` instead of clipping by `S`;
+/// - clipping stops as soon as the body is empty.
+pub fn focus_body_into(out: &mut Body, view: &Frustum, light: &Light, scene: &Aabb) -> Result<(), GeomError> {
+    scene.validate()?;
+    light.validate()?;
+    let mut stats = FocusStats::default();
+    let corners = view.corners();
+    let start = match *light {
+        Light::Point { position } | Light::Spot { position, .. }
+            if scene.contains(position) && corners.iter().all(|c| scene.contains(*c)) =>
+        {
+            stats.scene_clip_skipped = true;
+            let mut b = Aabb::around(corners).expect("eight corners");
+            b.min = b.min.min(position);
+            b.max = b.max.max(position);
+            b
+        }
+        _ => *scene,
+    };
+    let mut work = out.work.take().unwrap_or_else(|| Polytope::from_aabb(&start));
+    work.reset_to_aabb(&start);
+
+    let result = (|| -> Result<(), GeomError> {
+        let hull = view.hull_with(light.apex());
+        stats.planes_offered += hull.as_slice().len() as u16;
+        work.clip_all(hull.as_slice())?;
+        match light {
+            Light::Spot { frustum, .. } if !work.is_empty() => {
+                let l = frustum.planes();
+                stats.planes_offered += l.as_slice().len() as u16;
+                work.clip_all(l.as_slice())?;
+            }
+            Light::Spot { .. } => {}
+            _ => stats.light_clip_skipped = true,
+        }
+        Ok(())
+    })();
+    if let Err(e) = result {
+        out.work = Some(work);
+        out.clear();
+        return Err(e);
+    }
+    stats.early_exit = work.is_empty();
+    stats.planes_cut = work.plane_count().saturating_sub(6) as u16;
+    work.write_rounded(out);
+    stats.exact_evaluations = work.exact_evaluations();
+    out.stats = stats;
+    out.work = Some(work);
+    Ok(())
+}

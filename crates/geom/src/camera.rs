@@ -1,0 +1,99 @@
+//! Camera description → frustum corners.
+//!
+//! Corner order (shared by view and spot-light frusta): near plane first,
+//! then far plane, each as (−right −up), (+right −up), (+right +up),
+//! (−right +up).
+//!
+//! With f = forward/|forward|, r = (f × up)/|f × up| and u = r × f, the
+//! corner at depth t ∈ {near, far} and signs (sx, sy) is
+//! `eye + t·f + sx·t·tan(fovy/2)·aspect·r + sy·t·tan(fovy/2)·u`.
+
+use crate::error::{check_finite, GeomError};
+use glam::DVec3;
+
+/// A perspective camera (or spot light) looking along `forward`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    pub eye: DVec3,
+    pub forward: DVec3,
+    pub up: DVec3,
+    /// Full vertical field of view, radians, in (0, π).
+    pub fovy: f64,
+    /// Width / height, > 0.
+    pub aspect: f64,
+    /// Distances along `forward`, 0 < near < far.
+    pub near: f64,
+    pub far: f64,
+}
+
+/// Orthonormal camera basis: forward, right, up.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraBasis {
+    pub forward: DVec3,
+    pub right: DVec3,
+    pub up: DVec3,
+}
+
+impl Camera {
+    /// Checks every parameter and returns the orthonormal basis.
+    pub fn basis(&self) -> Result<CameraBasis, GeomError> {
+        check_finite(self.eye, "camera eye")?;
+        check_finite(self.forward, "camera forward")?;
+        check_finite(self.up, "camera up")?;
+        for (v, what) in [
+            (self.fovy, "camera fovy"),
+            (self.aspect, "camera aspect"),
+            (self.near, "camera near"),
+            (self.far, "camera far"),
+        ] {
+            if !v.is_finite() {
+                return Err(GeomError::NonFinite { what });
+            }
+        }
+        if !(self.fovy > 0.0 && self.fovy < std::f64::consts::PI) {
+            return Err(GeomError::InvalidCamera { reason: "fovy must lie strictly between 0 and 180 degrees" });
+        }
+        if !(self.aspect > 0.0) {
+            return Err(GeomError::InvalidCamera { reason: "aspect must be positive" });
+        }
+        if !(self.near > 0.0) {
+            return Err(GeomError::InvalidCamera { reason: "near must be positive" });
+        }
+        if !(self.near < self.far) {
+            return Err(GeomError::InvalidCamera { reason: "near must be smaller than far" });
+        }
+        let f_len = self.forward.length();
+        if !(f_len > 0.0) || !f_len.is_finite() {
+            return Err(GeomError::ZeroDirection { what: "camera forward" });
+        }
+        let forward = self.forward / f_len;
+        let side = forward.cross(self.up);
+        let s_len = side.length();
+        if !(s_len > 0.0) || !s_len.is_finite() {
+            return Err(GeomError::InvalidCamera { reason: "up is zero or parallel to forward" });
+        }
+        let right = side / s_len;
+        let up = right.cross(forward);
+        Ok(CameraBasis { forward, right, up })
+    }
+
+    /// The eight frustum corners in the documented order.
+    pub fn corners(&self) -> Result<[DVec3; 8], GeomError> {
+        let b = self.basis()?;
+        let tan_half = (0.5 * self.fovy).tan();
+        let mut out = [DVec3::ZERO; 8];
+        for (k, t) in [self.near, self.far].into_iter().enumerate() {
+            let hh = t * tan_half;
+            let hw = hh * self.aspect;
+            let centre = self.eye + b.forward * t;
+            let signs = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+            for (i, (sx, sy)) in signs.into_iter().enumerate() {
+                out[4 * k + i] = centre + b.right * (sx * hw) + b.up * (sy * hh);
+            }
+        }
+        for c in &out {
+            check_finite(*c, "frustum corner computed from camera")?;
+        }
+        Ok(out)
+    }
+}

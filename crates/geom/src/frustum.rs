@@ -1,0 +1,328 @@
+//! Frusta as exact convex hulls of their eight corners, and their hull with
+//! a light (a finite point, or a point at infinity for directional lights).
+
+use crate::camera::Camera;
+use crate::error::{check_finite, GeomError};
+use crate::number::{cross, diff, dot, lift, Exact, Filtered, Ring};
+use crate::plane::{side_value, Plane};
+use glam::DVec3;
+
+/// Faces of the canonical corner order (near −r−u, +r−u, +r+u, −r+u, then
+/// far likewise), counter-clockwise seen from outside for a right-handed
+/// frame (right = forward × up).
+const QUADS: [[u8; 4]; 6] = [
+    [0, 1, 2, 3], // near
+    [4, 7, 6, 5], // far
+    [0, 4, 5, 1], // bottom (−up)
+    [3, 2, 6, 7], // top (+up)
+    [0, 3, 7, 4], // left (−right)
+    [1, 5, 6, 2], // right (+right)
+];
+
+/// Most faces of a frustum hull: six quads, each possibly creased in two.
+pub(crate) const MAX_FRUSTUM_FACES: usize = 12;
+
+/// A validated frustum: eight corners whose convex hull is a solid with the
+/// frustum's face structure. Faces whose four corners are not exactly
+/// coplanar (the usual case after rounding) are split along the diagonal
+/// that keeps the hull convex, decided exactly.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Frustum {
+    corners: [DVec3; 8],
+    /// Face polygons as corner indices, CCW from outside; `faces_len[i]` is 3 or 4.
+    faces: [[u8; 4]; MAX_FRUSTUM_FACES],
+    faces_len: [u8; MAX_FRUSTUM_FACES],
+    n_faces: u8,
+}
+
+/// A light as a homogeneous point: finite, or at infinity in a direction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Apex {
+    Finite(DVec3),
+    /// The point at infinity reached by travelling along this direction.
+    Infinite(DVec3),
+}
+
+/// A fixed-capacity list of halfspaces.
+#[derive(Clone, Copy, Debug)]
+pub struct PlaneSet {
+    planes: [Plane; 2 * MAX_FRUSTUM_FACES],
+    len: usize,
+}
+
+impl PlaneSet {
+    pub(crate) fn new() -> Self {
+        PlaneSet { planes: [Plane::Axis { axis: 0, upper: true, value: 0.0 }; 2 * MAX_FRUSTUM_FACES], len: 0 }
+    }
+    fn push(&mut self, p: Plane) {
+        // Capacity: kept faces + horizon edges ≤ 12 + 12 for a frustum hull.
+        self.planes[self.len] = p;
+        self.len += 1;
+    }
+    pub fn as_slice(&self) -> &[Plane] {
+        &self.planes[..self.len]
+    }
+}
+
+/// Sign of `((q − p) × (r − p)) · (x − p)`: positive when `x` lies on the
+/// side the normal of the CCW triangle `p, q, r` points to.
+pub(crate) fn orient(p: DVec3, q: DVec3, r: DVec3, x: DVec3) -> i8 {
+    // robust::orient3d is positive when x lies *below* the CCW triangle.
+    let c = |v: DVec3| robust::Coord3D { x: v.x, y: v.y, z: v.z };
+    let d = robust::orient3d(c(p), c(q), c(r), c(x));
+    if d > 0.0 {
+        -1
+    } else if d < 0.0 {
+        1
+    } else {
+        0
+    }
+}
+
+/// Sign of `((q − p) × (r − p)) · dir`: whether the point at infinity in
+/// `dir` lies on the outer side of the triangle's plane.
+pub(crate) fn orient_direction(p: DVec3, q: DVec3, r: DVec3, dir: DVec3) -> i8 {
+    fn eval<T: Ring>(p: DVec3, q: DVec3, r: DVec3, dir: DVec3) -> T {
+        dot(&cross(&diff::<T>(q, p), &diff::<T>(r, p)), &lift::<T>(dir))
+    }
+    match eval::<Filtered>(p, q, r, dir).sign() {
+        Some(s) => s,
+        None => eval::<Exact>(p, q, r, dir).sign(),
+    }
+}
+
+impl Frustum {
+    /// Validates eight corners in the documented order (near then far,
+    /// each −r−u, +r−u, +r+u, −r+u). Either handedness is accepted.
+    pub fn from_corners(corners: [DVec3; 8]) -> Result<Frustum, GeomError> {
+        Self::with_name(corners, "frustum")
+    }
+
+    /// The frustum of a camera (see [`Camera::corners`] for the formula).
+    pub fn from_camera(camera: &Camera) -> Result<Frustum, GeomError> {
+        Self::with_name(camera.corners()?, "camera frustum")
+    }
+
+    pub(crate) fn with_name(corners: [DVec3; 8], what: &'static str) -> Result<Frustum, GeomError> {
+        for c in &corners {
+            check_finite(*c, "frustum corner")?;
+        }
+        // Handedness: the far corners must lie inside the near face.
+        let [c0, c1, c2, _, c4, c5, c6, c7] = corners;
+        let mut hand = 0;
+        for far in [c4, c5, c6, c7] {
+            hand = orient(c0, c1, c2, far);
+            if hand != 0 {
+                break;
+            }
+        }
+        if hand == 0 {
+            return Err(GeomError::DegenerateFrustum { what, reason: "all corners are coplanar" });
+        }
+        let mut f = Frustum { corners, faces: [[0; 4]; MAX_FRUSTUM_FACES], faces_len: [0; MAX_FRUSTUM_FACES], n_faces: 0 };
+        for quad in QUADS {
+            // A left-handed corner order mirrors every face: reverse the cycles.
+            let [a, b, c, d] = if hand < 0 { quad } else { [quad[0], quad[3], quad[2], quad[1]] };
+            let p = |i: u8| corners[i as usize];
+            // Fold along the diagonal that keeps the surface convex: if d is
+            // on the inner side of plane(a, b, c) the edge a–c is convex.
+            match orient(p(a), p(b), p(c), p(d)) {
+                0 => f.push_face(&[a, b, c, d]),
+                s if s < 0 => {
+                    f.push_face(&[a, b, c]);
+                    f.push_face(&[a, c, d]);
+                }
+                _ => {
+                    f.push_face(&[a, b, d]);
+                    f.push_face(&[b, c, d]);
+                }
+            }
+        }
+        // Convexity: every face plane has all corners on its closed inner
+        // side and at least one strictly inside (no flat or twisted hull).
+        // The fourth corner of a creased quad is on the inner side of both
+        // triangles by the fold decision above, so it is not tested again.
+        for i in 0..f.n_faces as usize {
+            let face = f.face(i);
+            let plane = Plane::Points([corners[face[0] as usize], corners[face[1] as usize], corners[face[2] as usize]]);
+            let coef = plane.coefficients::<Filtered>();
+            let quad = QUADS.iter().find(|q| face.iter().all(|v| q.contains(v))).expect("faces come from quads");
+            let mut strictly_inside = false;
+            for (k, &x) in corners.iter().enumerate() {
+                if quad.contains(&(k as u8)) {
+                    continue;
+                }
+                let h = [Filtered::lit(x.x), Filtered::lit(x.y), Filtered::lit(x.z), Filtered::lit(1.0)];
+                let s = match side_value(&coef, &h).sign() {
+                    Some(s) => s,
+                    None => orient(corners[face[0] as usize], corners[face[1] as usize], corners[face[2] as usize], x),
+                };
+                if s > 0 {
+                    return Err(GeomError::DegenerateFrustum { what, reason: "corners are not in convex position (twisted or non-convex frustum)" });
+                }
+                strictly_inside |= s < 0;
+            }
+            if !strictly_inside {
+                return Err(GeomError::DegenerateFrustum { what, reason: "a face is degenerate (coincident or collinear corners)" });
+            }
+        }
+        Ok(f)
+    }
+
+    fn push_face(&mut self, idx: &[u8]) {
+        let i = self.n_faces as usize;
+        self.faces[i][..idx.len()].copy_from_slice(idx);
+        self.faces_len[i] = idx.len() as u8;
+        self.n_faces += 1;
+    }
+
+    fn face(&self, i: usize) -> &[u8] {
+        &self.faces[i][..self.faces_len[i] as usize]
+    }
+
+    pub fn corners(&self) -> &[DVec3; 8] {
+        &self.corners
+    }
+
+    /// Number of faces of the exact hull (6 when every side is planar, up to 12).
+    pub fn face_count(&self) -> usize {
+        self.n_faces as usize
+    }
+
+    fn face_plane(&self, i: usize) -> Plane {
+        let f = self.face(i);
+        Plane::Points([self.corners[f[0] as usize], self.corners[f[1] as usize], self.corners[f[2] as usize]])
+    }
+
+    /// The halfspaces whose intersection is the frustum.
+    pub fn planes(&self) -> PlaneSet {
+        let mut out = PlaneSet::new();
+        for i in 0..self.face_count() {
+            out.push(self.face_plane(i));
+        }
+        out
+    }
+
+    /// The halfspaces whose intersection is `hull(frustum ∪ {apex})`; for an
+    /// apex at infinity, the frustum swept toward it without end.
+    ///
+    /// Beneath–beyond: faces that do not see the apex stay; each horizon
+    /// edge `a → b` (as oriented in a face that sees the apex) spans a new
+    /// facet `(a, b, apex)` with the same outward orientation. Faces whose
+    /// plane contains the apex count as not seeing it, so coplanar cases keep
+    /// their plane (the new facet through a neighbouring horizon edge then
+    /// coincides with it and is redundant, never wrong).
+    pub fn hull_with(&self, apex: Apex) -> PlaneSet {
+        let n = self.face_count();
+        let mut sees = [false; MAX_FRUSTUM_FACES];
+        for (i, seen) in sees.iter_mut().enumerate().take(n) {
+            let f = self.face(i);
+            let [a, b, c] = [self.corners[f[0] as usize], self.corners[f[1] as usize], self.corners[f[2] as usize]];
+            *seen = match apex {
+                Apex::Finite(l) => orient(a, b, c, l) > 0,
+                Apex::Infinite(dir) => orient_direction(a, b, c, dir) > 0,
+            };
+        }
+        let mut out = PlaneSet::new();
+        for i in 0..n {
+            if !sees[i] {
+                out.push(self.face_plane(i));
+                continue;
+            }
+            let f = self.face(i);
+            for k in 0..f.len() {
+                let (a, b) = (f[k], f[(k + 1) % f.len()]);
+                if let Some(j) = self.face_with_edge(b, a) {
+                    if !sees[j] {
+                        let (pa, pb) = (self.corners[a as usize], self.corners[b as usize]);
+                        out.push(match apex {
+                            Apex::Finite(l) => Plane::Points([pa, pb, l]),
+                            Apex::Infinite(direction) => Plane::PointsDirection { p: pa, q: pb, direction },
+                        });
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    fn face_with_edge(&self, a: u8, b: u8) -> Option<usize> {
+        (0..self.face_count()).find(|&i| {
+            let f = self.face(i);
+            (0..f.len()).any(|k| f[k] == a && f[(k + 1) % f.len()] == b)
+        })
+    }
+
+    /// Whether `x` lies in the closed frustum (exact).
+    pub fn contains(&self, x: DVec3) -> bool {
+        (0..self.face_count()).all(|i| {
+            let f = self.face(i);
+            orient(self.corners[f[0] as usize], self.corners[f[1] as usize], self.corners[f[2] as usize], x) <= 0
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn unit_frustum() -> [DVec3; 8] {
+        let mut c = [DVec3::ZERO; 8];
+        for (k, (t, s)) in [(-1.0, 1.0), (-2.0, 2.0)].into_iter().enumerate() {
+            let sq = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+            for (i, (x, y)) in sq.into_iter().enumerate() {
+                c[4 * k + i] = DVec3::new(x * s, y * s, t);
+            }
+        }
+        c
+    }
+
+    #[test]
+    fn planar_frustum_has_six_faces_and_contains_its_centre() {
+        let f = Frustum::from_corners(unit_frustum()).unwrap();
+        assert_eq!(f.face_count(), 6);
+        assert!(f.contains(DVec3::new(0.0, 0.0, -1.5)));
+        assert!(!f.contains(DVec3::new(0.0, 0.0, -0.5)));
+        assert!(!f.contains(DVec3::new(3.0, 0.0, -1.5)));
+    }
+
+    #[test]
+    fn mirrored_corner_order_is_accepted() {
+        let mut c = unit_frustum();
+        for p in &mut c {
+            p.x = -p.x;
+        }
+        let f = Frustum::from_corners(c).unwrap();
+        assert!(f.contains(DVec3::new(0.0, 0.0, -1.5)));
+        assert!(!f.contains(DVec3::new(0.0, 0.0, -2.5)));
+    }
+
+    #[test]
+    fn creased_side_is_split_into_two_triangles() {
+        let mut c = unit_frustum();
+        c[6].x += 1e-9; // far +r+u corner pushed out of the side planes
+        let f = Frustum::from_corners(c).unwrap();
+        assert!(f.face_count() > 6);
+        for x in c {
+            assert!(f.contains(x));
+        }
+    }
+
+    #[test]
+    fn bad_frusta_are_rejected() {
+        let mut c = unit_frustum();
+        c.swap(4, 6); // twisted
+        assert!(Frustum::from_corners(c).is_err());
+        let mut flat = unit_frustum();
+        for p in &mut flat {
+            p.z = 0.0;
+        }
+        assert!(Frustum::from_corners(flat).is_err());
+        let mut nan = unit_frustum();
+        nan[3].y = f64::NAN;
+        assert!(matches!(Frustum::from_corners(nan), Err(GeomError::NonFinite { .. })));
+        let mut pinched = unit_frustum();
+        pinched[1] = pinched[0];
+        assert!(Frustum::from_corners(pinched).is_err());
+    }
+}

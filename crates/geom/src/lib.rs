@@ -1,0 +1,58 @@
+//! Exact focus bodies for shadow mapping.
+//!
+//! The focus body of Perspective Shadow Maps is
+//! `H = hull(V ∪ {l}) ∩ S ∩ L`: the part of the scene box `S` (and of a spot
+//! light's frustum `L`) that can cast a shadow into the view frustum `V`
+//! when lit from `l` — a point, or a point at infinity for directional
+//! lights. This crate computes `H` for the exact values of its `f64`
+//! inputs: every side-of-plane, coplanarity, emptiness and flatness decision
+//! is made with filtered exact predicates (a floating-point filter with a
+//! rigorous error bound, and exact big-integer arithmetic when the filter
+//! cannot decide). Vertices are rounded to `f64` only at the end.
+//!
+//! ```
+//! use shadowfocus_geom::{focus_body, Aabb, Camera, Dimension, Frustum, Light};
+//! use glam::DVec3;
+//!
+//! let view = Frustum::from_camera(&Camera {
+//!     eye: DVec3::new(0.0, 2.0, 10.0),
+//!     forward: DVec3::new(0.0, 0.0, -1.0),
+//!     up: DVec3::Y,
+//!     fovy: 60f64.to_radians(),
+//!     aspect: 1.5,
+//!     near: 0.5,
+//!     far: 50.0,
+//! })?;
+//! let scene = Aabb::new(DVec3::new(-20.0, 0.0, -40.0), DVec3::new(20.0, 8.0, 5.0))?;
+//! let sun = Light::directional(DVec3::new(0.3, -1.0, 0.2))?;
+//! let body = focus_body(&view, &sun, &scene)?;
+//! assert_eq!(body.dimension(), Dimension::Solid);
+//! assert!(body.volume() > 0.0);
+//! # Ok::<(), shadowfocus_geom::GeomError>(())
+//! ```
+
+mod body;
+mod camera;
+mod error;
+mod frustum;
+mod number;
+mod plane;
+mod polytope;
+
+pub use body::{focus_body, focus_body_into, Aabb, Body, Dimension, FocusStats, Light};
+pub use camera::{Camera, CameraBasis};
+pub use error::GeomError;
+pub use frustum::Frustum;
+pub use plane::Plane;
+pub use polytope::{Polytope, ROUNDING_ULPS};
+
+pub use glam::{DVec3, DVec4};
+
+/// Most planes a polytope can be bounded by.
+pub const MAX_PLANES: usize = 64;
+/// Most vertices a polytope can have.
+pub const MAX_VERTICES: usize = 128;
+/// Most faces a polytope can have.
+pub const MAX_FACES: usize = MAX_PLANES;
+/// Most face–vertex incidences (sum of face sizes).
+pub const MAX_FACE_INDICES: usize = 3 * MAX_VERTICES + 64;

@@ -1,0 +1,121 @@
+//! `shadowfocus body`: focus bodies for JSON-lines cases.
+
+use super::case::{parse_case, Case};
+use serde_json::{json, Value};
+use shadowfocus_geom::{focus_body_into, Body, Frustum};
+use std::io::{BufRead, Write};
+use std::time::Instant;
+
+/// The JSON result for one body.
+pub fn body_json(id: &Value, body: &Body) -> Value {
+    let vertices: Vec<[f64; 3]> = body.vertices().iter().map(|v| v.to_array()).collect();
+    let faces: Vec<&[u16]> = body.faces().collect();
+    json!({
+        "id": id,
+        "dimension": body.dimension().as_i32(),
+        "vertices": vertices,
+        "faces": faces,
+        "volume": body.volume(),
+    })
+}
+
+/// Processes every line; returns how many lines failed.
+pub fn run(input: impl BufRead, mut out: impl Write) -> std::io::Result<usize> {
+    let mut failed = 0;
+    let mut body = Body::new();
+    for line in input.lines() {
+        let line = line?;
+        if line.trim().is_empty() {
+            continue;
+        }
+        let result = match parse_case(&line) {
+            Ok(case) => match focus_body_into(&mut body, &case.view, &case.light, &case.scene) {
+                Ok(()) => body_json(&case.id, &body),
+                Err(e) => {
+                    failed += 1;
+                    json!({"id": case.id, "error": e.to_string()})
+                }
+            },
+            Err(e) => {
+                failed += 1;
+                json!({"id": e.id, "error": e.message})
+            }
+        };
+        writeln!(out, "{result}")?;
+    }
+    Ok(failed)
+}
+
+/// Median of a sample (sorted in place).
+pub fn median(xs: &mut [f64]) -> f64 {
+    xs.sort_by(f64::total_cmp);
+    xs[xs.len() / 2]
+}
+
+/// Per-case median time of `f` in nanoseconds: enough repetitions for
+/// ~2 ms per case (at least 15), each timed on its own.
+pub fn case_median_ns(mut f: impl FnMut()) -> f64 {
+    let t = Instant::now();
+    f();
+    let first = t.elapsed().as_nanos().max(1) as f64;
+    let reps = ((2e6 / first) as usize).clamp(15, 2000);
+    // Batches amortise the timer's own cost (~20 ns) for sub-µs work.
+    let batch = ((2000.0 / first) as usize).clamp(1, 64);
+    let mut samples = Vec::with_capacity(reps);
+    for _ in 0..reps {
+        let t = Instant::now();
+        for _ in 0..batch {
+            f();
+        }
+        samples.push(t.elapsed().as_nanos() as f64 / batch as f64);
+    }
+    median(&mut samples)
+}
+
+/// `--bench`: times every valid case, excluding parsing.
+pub fn bench(input: impl BufRead) -> std::io::Result<Value> {
+    let mut cases: Vec<Case> = Vec::new();
+    let mut skipped = 0;
+    for line in input.lines() {
+        let line = line?;
+        if line.trim().is_empty() {
+            continue;
+        }
+        match parse_case(&line) {
+            Ok(c) => cases.push(c),
+            Err(_) => skipped += 1,
+        }
+    }
+    let mut body = Body::new();
+    let mut body_ns = Vec::with_capacity(cases.len());
+    let mut with_frustum_ns = Vec::with_capacity(cases.len());
+    let mut exact_cases = 0;
+    for case in &cases {
+        let _ = focus_body_into(&mut body, &case.view, &case.light, &case.scene);
+        exact_cases += (body.stats().exact_evaluations > 0) as usize;
+        body_ns.push(case_median_ns(|| {
+            let _ = focus_body_into(&mut body, &case.view, &case.light, &case.scene);
+        }));
+        let corners = *case.view.corners();
+        with_frustum_ns.push(case_median_ns(|| {
+            if let Ok(view) = Frustum::from_corners(std::hint::black_box(corners)) {
+                let _ = focus_body_into(&mut body, &view, &case.light, &case.scene);
+            }
+        }));
+    }
+    let p99 = |xs: &mut Vec<f64>| {
+        xs.sort_by(f64::total_cmp);
+        xs.get(((xs.len() as f64 * 0.99) as usize).min(xs.len().saturating_sub(1))).copied().unwrap_or(0.0)
+    };
+    let n = cases.len();
+    let (med, med_f) = if n > 0 { (median(&mut body_ns), median(&mut with_frustum_ns)) } else { (0.0, 0.0) };
+    Ok(json!({
+        "cases": n,
+        "median_ns": med,
+        "p99_ns": p99(&mut body_ns),
+        "with_frustum_validation_median_ns": med_f,
+        "with_frustum_validation_p99_ns": p99(&mut with_frustum_ns),
+        "cases_using_exact_fallback": exact_cases,
+        "invalid_lines_skipped": skipped,
+    }))
+}
