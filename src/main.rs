@@ -1,5 +1,6 @@
 use clap::{Parser, Subcommand};
 use shadowfocus::cli;
+use shadowfocus::cli::fit::FitOptions;
 use std::fs::File;
 use std::io::{self, BufRead, BufReader, BufWriter};
 use std::path::PathBuf;
@@ -14,7 +15,7 @@ struct Args {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Focus bodies H = hull(V ∪ l) ∩ S ∩ L for JSON-lines cases (FILE or - for stdin).
+    /// Focus bodies H = hull(V ∪ l) ∩ S ∩ L for JSON-lines cases.
     Body {
         /// Input file, or - for standard input.
         #[arg(default_value = "-")]
@@ -23,35 +24,106 @@ enum Command {
         #[arg(long)]
         bench: bool,
     },
+    /// Shadow-map matrices for JSON-lines cases.
+    Fit {
+        #[command(flatten)]
+        options: FitOptions,
+        /// Input file, or - for standard input.
+        #[arg(default_value = "-")]
+        input: String,
+        /// Time every case and print one JSON summary line.
+        #[arg(long)]
+        bench: bool,
+    },
+    /// Render a built-in scene (or a .gltf/.glb file) with one method.
+    Render {
+        /// Built-in scene name or glTF file.
+        #[arg(long)]
+        scene: String,
+        #[command(flatten)]
+        options: FitOptions,
+        /// Image size, WxH.
+        #[arg(long, default_value = "960x540", value_parser = cli::render::parse_size)]
+        size: (u32, u32),
+        /// Output folder.
+        #[arg(long)]
+        out: PathBuf,
+    },
+    /// Render every built-in scene with every method at one texel budget.
+    Demo {
+        /// Output folder.
+        #[arg(long, default_value = "out/demo")]
+        out: PathBuf,
+        /// Image size, WxH.
+        #[arg(long, default_value = "640x360", value_parser = cli::render::parse_size)]
+        size: (u32, u32),
+        /// Texels per side of a single map; four splits get half each.
+        #[arg(long, default_value_t = 1024)]
+        resolution: u32,
+        /// Scenes to render (default: all built-in scenes).
+        #[arg(long, value_delimiter = ',')]
+        scenes: Vec<String>,
+    },
 }
 
 fn open(input: &str) -> io::Result<Box<dyn BufRead>> {
     if input == "-" {
         Ok(Box::new(BufReader::new(io::stdin())))
     } else {
-        Ok(Box::new(BufReader::new(File::open(PathBuf::from(input)).map_err(|e| {
-            io::Error::new(e.kind(), format!("cannot open {input}: {e}"))
-        })?)))
+        let f = File::open(PathBuf::from(input)).map_err(|e| io::Error::new(e.kind(), format!("cannot open {input}: {e}")))?;
+        Ok(Box::new(BufReader::new(f)))
+    }
+}
+
+fn failures(failed: usize) -> Result<bool, String> {
+    if failed > 0 {
+        eprintln!("{failed} case(s) failed");
+    }
+    Ok(failed == 0)
+}
+
+fn run(command: Command) -> Result<bool, String> {
+    let io_err = |e: io::Error| e.to_string();
+    match command {
+        Command::Body { input, bench } => {
+            let input = open(&input).map_err(io_err)?;
+            if bench {
+                println!("{}", cli::body::bench(input).map_err(io_err)?);
+                return Ok(true);
+            }
+            failures(cli::body::run(input, BufWriter::new(io::stdout().lock())).map_err(io_err)?)
+        }
+        Command::Fit { options, input, bench } => {
+            let settings = options.settings()?;
+            let input = open(&input).map_err(io_err)?;
+            if bench {
+                println!("{}", cli::fit::bench(input, &settings).map_err(io_err)?);
+                return Ok(true);
+            }
+            failures(cli::fit::run(input, BufWriter::new(io::stdout().lock()), &settings).map_err(io_err)?)
+        }
+        Command::Render { scene, options, size, out } => {
+            let mut renderer = shadowfocus::render::Renderer::from_env().map_err(|e| e.to_string())?;
+            let scene = shadowfocus::render::load_scene(&scene).map_err(|e| e.to_string())?;
+            let result = cli::render::render_to(&mut renderer, &scene, &options, size, &out)?;
+            println!("{}", serde_json::to_string(&result.metrics).map_err(|e| e.to_string())?);
+            Ok(true)
+        }
+        Command::Demo { out, size, resolution, scenes } => {
+            let scenes = if scenes.is_empty() {
+                shadowfocus::render::BUILTIN_SCENES.iter().map(|s| s.to_string()).collect()
+            } else {
+                scenes
+            };
+            let summary = cli::render::demo(&out, size, resolution, &scenes)?;
+            eprintln!("wrote {} renders and {}", summary["results"].as_array().map_or(0, |r| r.len()), out.join("contact_sheet.png").display());
+            Ok(true)
+        }
     }
 }
 
 fn main() -> ExitCode {
-    let args = Args::parse();
-    let result: io::Result<bool> = (|| match args.command {
-        Command::Body { input, bench } => {
-            if bench {
-                println!("{}", cli::body::bench(open(&input)?)?);
-                Ok(true)
-            } else {
-                let failed = cli::body::run(open(&input)?, BufWriter::new(io::stdout().lock()))?;
-                if failed > 0 {
-                    eprintln!("{failed} case(s) failed");
-                }
-                Ok(failed == 0)
-            }
-        }
-    })();
-    match result {
+    match run(Args::parse().command) {
         Ok(true) => ExitCode::SUCCESS,
         Ok(false) => ExitCode::FAILURE,
         Err(e) => {

@@ -1,4 +1,7 @@
-//! Command-line front end: JSON-lines I/O around the library crates.
+//! Command-line front end: JSON-lines I/O and the render commands around
+//! the library crates.
 
 pub mod body;
 pub mod case;
+pub mod fit;
+pub mod render;

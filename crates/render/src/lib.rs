@@ -1,0 +1,51 @@
+//! Headless wgpu shadow renderer for validating shadow-map focusing.
+//!
+//! A frame is a [`Scene`] (triangles grouped into objects), a [`CameraSpec`], a [`LightSpec`] and
+//! a list of [`ShadowMapSpec`]s (matrix, depth test, split range, casters) produced elsewhere.
+//! The renderer draws the maps into a `Depth32Float` array, shades the scene with per-pixel
+//! split selection and PCF, and reads back per-pixel world position, aliasing and the chosen
+//! split. [`RenderMetrics`] compare every pixel with a CPU ray cast toward the light.
+//!
+//! ```no_run
+//! use shadowfocus_render::*;
+//! let scene = builtin_scene("inverted")?;
+//! let map = testfit::scene_box_map(&scene, &scene.camera, &scene.light, 16.0 / 9.0)?; // or from the focusing crate
+//! let maps = [map];
+//! let out = render_scene(&RenderRequest::new(&scene, &maps))?;
+//! write_outputs(std::path::Path::new("out/inverted"), &out, None)?;
+//! # Ok::<(), RenderError>(())
+//! ```
+
+mod error;
+mod font;
+mod gltf_scene;
+mod gpu;
+mod ground_truth;
+mod image;
+mod metrics;
+mod output;
+mod renderer;
+mod scene;
+mod scenes;
+pub mod testfit;
+mod types;
+
+pub use error::RenderError;
+pub use gltf_scene::{default_camera, default_light, load_gltf, load_scene, GltfReport};
+pub use gpu::{AdapterSummary, BackendChoice, BACKEND_ENV};
+pub use ground_truth::{GroundTruth, Visibility};
+pub use image::{
+    aliasing_color, aliasing_heatmap, contact_sheet, depth_image, mismatch_image, Image,
+    PixelMatch, HEAT_UNLIT_VALUE,
+};
+pub use metrics::{
+    pixel_matches, AliasingStats, CasterStats, CoverageStats, MismatchStats, RenderMetrics,
+};
+pub use output::{aliasing_image, metrics_json, mismatch_view, shadow_map_images, write_outputs};
+pub use renderer::{render_scene, DepthMap, RenderOutput, RenderRequest, Renderer};
+pub use scene::{Scene, SceneObject, Vertex};
+pub use scenes::{builtin_scene, BUILTIN_SCENES};
+pub use types::{
+    Bounds, CameraSpec, DepthMode, DepthTest, EyeBlur, LightSpec, Pcf, RenderSettings,
+    ShadowMapSpec, MAX_MAPS,
+};

@@ -1,0 +1,432 @@
+//! Per-frame measurements: aliasing, agreement with ground truth, split coverage, casters, time.
+
+use glam::DVec3;
+use serde::Serialize;
+
+use crate::gpu::AdapterSummary;
+use crate::ground_truth::Visibility;
+use crate::image::PixelMatch;
+use crate::renderer::{RenderOutput, RenderRequest};
+use crate::types::RenderSettings;
+
+/// Screen pixels per shadow texel over the visible receiver pixels that a map covers and that
+/// face the light (elsewhere the shadow term is not visible).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct AliasingStats {
+    pub max: f64,
+    pub p95: f64,
+    pub mean: f64,
+    pub pixels: u64,
+}
+
+/// Rendered lit/shadowed against the ray-cast ground truth.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct MismatchStats {
+    /// Mismatched pixels / visible geometry pixels.
+    pub rate: f64,
+    /// The same, over pixels whose (2r+1)² neighbourhood has one ground-truth value.
+    pub rate_off_edges: f64,
+    pub pixels: u64,
+    pub mismatched: u64,
+    pub off_edge_pixels: u64,
+    pub off_edge_mismatched: u64,
+    /// Rendered shadowed but truly lit.
+    pub false_shadow: u64,
+    /// Rendered lit but truly shadowed.
+    pub false_light: u64,
+}
+
+/// Whether every visible pixel (inside a spot light's pyramid) got a shadow map.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct CoverageStats {
+    pub required: u64,
+    pub covered: u64,
+    pub uncovered: u64,
+    pub complete: bool,
+}
+
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct CasterStats {
+    /// Objects drawn into each map.
+    pub per_map: Vec<u32>,
+    /// Draw calls per map after merging adjacent index ranges.
+    pub draw_calls: Vec<u32>,
+    /// Objects drawn into at least one map.
+    pub drawn: u32,
+    /// Objects in the scene.
+    pub total: u32,
+}
+
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Timings {
+    pub shadow_ms: f64,
+    pub main_ms: f64,
+    pub readback_ms: f64,
+    pub ground_truth_ms: f64,
+}
+
+/// Everything `metrics.json` reports about one frame.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct RenderMetrics {
+    pub scene: String,
+    pub width: u32,
+    pub height: u32,
+    pub shadow_resolution: u32,
+    pub maps: usize,
+    pub adapter: AdapterSummary,
+    /// Whether casters in front of a map were clamped rather than clipped.
+    pub depth_clamp: bool,
+    /// Shadow + main passes, GPU work until idle (fastest of `timing_repeats`).
+    pub render_ms: f64,
+    pub shadow_pass_ms: f64,
+    pub main_pass_ms: f64,
+    pub readback_ms: f64,
+    pub ground_truth_ms: f64,
+    pub aliasing: AliasingStats,
+    pub mismatch: Option<MismatchStats>,
+    pub coverage: CoverageStats,
+    pub casters: CasterStats,
+    /// Visible pixels served by each map.
+    pub split_pixels: Vec<u64>,
+    pub settings: RenderSettings,
+}
+
+fn pixel_pos(w: &[f32; 4]) -> DVec3 {
+    DVec3::new(w[0] as f64, w[1] as f64, w[2] as f64)
+}
+
+pub(crate) fn aliasing_stats(req: &RenderRequest, out: &RenderOutput) -> AliasingStats {
+    let mut v: Vec<f64> = Vec::new();
+    for (i, w) in out.world.iter().enumerate() {
+        let e = out.aliasing[i];
+        // NaN (background) and −1 (uncovered) both fail `e >= 0`.
+        if w[3] != 1.0 || e.is_nan() || e < 0.0 {
+            continue;
+        }
+        let p = pixel_pos(w);
+        let n = DVec3::new(
+            out.normal[i][0] as f64,
+            out.normal[i][1] as f64,
+            out.normal[i][2] as f64,
+        );
+        let (l, _) = req.light.toward_light(p);
+        if n.dot(l) <= 0.0 || !req.light.in_spot(p) {
+            continue;
+        }
+        v.push(e as f64);
+    }
+    if v.is_empty() {
+        return AliasingStats {
+            max: f64::NAN,
+            p95: f64::NAN,
+            mean: f64::NAN,
+            pixels: 0,
+        };
+    }
+    let mean = v.iter().sum::<f64>() / v.len() as f64;
+    let k = ((v.len() as f64 * 0.95).ceil() as usize).clamp(1, v.len()) - 1;
+    let (_, p95, _) = v.select_nth_unstable_by(k, |a, b| a.total_cmp(b));
+    let p95 = *p95;
+    let max = v.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+    AliasingStats {
+        max,
+        p95,
+        mean,
+        pixels: v.len() as u64,
+    }
+}
+
+/// Classifies each pixel against the ground truth (which must be present).
+///
+/// Back-facing and outside-spot pixels count as agreeing: the renderer and the ground truth take
+/// those decisions from the same normal and the same pyramid, so only the shadow test is judged.
+pub fn pixel_matches(
+    out: &RenderOutput,
+    truth: &[Visibility],
+    edge_radius: u32,
+) -> Vec<PixelMatch> {
+    let (w, h) = (out.width as i64, out.height as i64);
+    let r = edge_radius as i64;
+    let lit: Vec<bool> = truth.iter().map(|t| t.is_lit()).collect();
+    let bg: Vec<bool> = truth.iter().map(|t| *t == Visibility::Background).collect();
+    let mut res = Vec::with_capacity(truth.len());
+    for y in 0..h {
+        for x in 0..w {
+            let i = (y * w + x) as usize;
+            match truth[i] {
+                Visibility::Background => {
+                    res.push(PixelMatch::Background);
+                    continue;
+                }
+                Visibility::BackFacing | Visibility::OutsideSpot => {
+                    res.push(PixelMatch::Agree);
+                    continue;
+                }
+                Visibility::Lit | Visibility::Occluded => {}
+            }
+            let rendered_lit = out.shadow[i] >= 0.5;
+            if rendered_lit == lit[i] {
+                res.push(PixelMatch::Agree);
+                continue;
+            }
+            // Edge: any neighbour with another truth value, background, or off-screen.
+            let mut edge = false;
+            'n: for dy in -r..=r {
+                for dx in -r..=r {
+                    let (xx, yy) = (x + dx, y + dy);
+                    if xx < 0 || yy < 0 || xx >= w || yy >= h {
+                        edge = true;
+                        break 'n;
+                    }
+                    let j = (yy * w + xx) as usize;
+                    if bg[j] || lit[j] != lit[i] {
+                        edge = true;
+                        break 'n;
+                    }
+                }
+            }
+            res.push(if rendered_lit {
+                PixelMatch::FalseLight { edge }
+            } else {
+                PixelMatch::FalseShadow { edge }
+            });
+        }
+    }
+    res
+}
+
+/// Pixels that are off edges (same ground truth over the neighbourhood), for the denominator.
+fn off_edge_mask(out: &RenderOutput, truth: &[Visibility], r: u32) -> Vec<bool> {
+    let (w, h) = (out.width as i64, out.height as i64);
+    let r = r as i64;
+    let lit: Vec<bool> = truth.iter().map(|t| t.is_lit()).collect();
+    let mut mask = vec![false; truth.len()];
+    for y in 0..h {
+        for x in 0..w {
+            let i = (y * w + x) as usize;
+            if truth[i] == Visibility::Background {
+                continue;
+            }
+            let mut ok = true;
+            'n: for dy in -r..=r {
+                for dx in -r..=r {
+                    let (xx, yy) = (x + dx, y + dy);
+                    if xx < 0 || yy < 0 || xx >= w || yy >= h {
+                        ok = false;
+                        break 'n;
+                    }
+                    let j = (yy * w + xx) as usize;
+                    if truth[j] == Visibility::Background || lit[j] != lit[i] {
+                        ok = false;
+                        break 'n;
+                    }
+                }
+            }
+            mask[i] = ok;
+        }
+    }
+    mask
+}
+
+pub(crate) fn mismatch_stats(
+    out: &RenderOutput,
+    truth: &[Visibility],
+    edge_radius: u32,
+) -> MismatchStats {
+    let m = pixel_matches(out, truth, edge_radius);
+    let off = off_edge_mask(out, truth, edge_radius);
+    let mut s = MismatchStats::default();
+    for (i, pm) in m.iter().enumerate() {
+        if *pm == PixelMatch::Background {
+            continue;
+        }
+        s.pixels += 1;
+        if off[i] {
+            s.off_edge_pixels += 1;
+        }
+        let bad = match pm {
+            PixelMatch::FalseShadow { .. } => {
+                s.false_shadow += 1;
+                true
+            }
+            PixelMatch::FalseLight { .. } => {
+                s.false_light += 1;
+                true
+            }
+            _ => false,
+        };
+        if bad {
+            s.mismatched += 1;
+            if off[i] {
+                s.off_edge_mismatched += 1;
+            }
+        }
+    }
+    s.rate = if s.pixels > 0 {
+        s.mismatched as f64 / s.pixels as f64
+    } else {
+        0.0
+    };
+    s.rate_off_edges = if s.off_edge_pixels > 0 {
+        s.off_edge_mismatched as f64 / s.off_edge_pixels as f64
+    } else {
+        0.0
+    };
+    s
+}
+
+pub(crate) fn coverage_stats(req: &RenderRequest, out: &RenderOutput) -> (CoverageStats, Vec<u64>) {
+    let mut c = CoverageStats::default();
+    let mut per = vec![0u64; req.maps.len()];
+    for (i, w) in out.world.iter().enumerate() {
+        if w[3] == 0.0 {
+            continue;
+        }
+        let s = out.split[i];
+        if s >= 0 && (s as usize) < per.len() {
+            per[s as usize] += 1;
+        }
+        if !req.light.in_spot(pixel_pos(w)) {
+            continue;
+        }
+        c.required += 1;
+        if s >= 0 {
+            c.covered += 1;
+        }
+    }
+    c.uncovered = c.required - c.covered;
+    c.complete = c.uncovered == 0;
+    (c, per)
+}
+
+pub(crate) fn compute(
+    req: &RenderRequest,
+    out: &RenderOutput,
+    adapter: &AdapterSummary,
+    depth_clamp: bool,
+    draw_calls: &[u32],
+    t: Timings,
+) -> RenderMetrics {
+    let (coverage, split_pixels) = coverage_stats(req, out);
+    let mut union: Vec<u32> = req
+        .maps
+        .iter()
+        .flat_map(|m| m.casters.iter().copied())
+        .collect();
+    union.sort_unstable();
+    union.dedup();
+    let per_map = req
+        .maps
+        .iter()
+        .map(|m| {
+            let mut c = m.casters.clone();
+            c.sort_unstable();
+            c.dedup();
+            c.len() as u32
+        })
+        .collect();
+    RenderMetrics {
+        scene: req.scene.name.clone(),
+        width: out.width,
+        height: out.height,
+        shadow_resolution: req.settings.shadow_resolution,
+        maps: req.maps.len(),
+        adapter: adapter.clone(),
+        depth_clamp,
+        render_ms: t.shadow_ms + t.main_ms,
+        shadow_pass_ms: t.shadow_ms,
+        main_pass_ms: t.main_ms,
+        readback_ms: t.readback_ms,
+        ground_truth_ms: t.ground_truth_ms,
+        aliasing: aliasing_stats(req, out),
+        mismatch: out
+            .truth
+            .as_ref()
+            .map(|tr| mismatch_stats(out, tr, req.settings.edge_radius)),
+        coverage,
+        casters: CasterStats {
+            per_map,
+            draw_calls: draw_calls.to_vec(),
+            drawn: union.len() as u32,
+            total: req.scene.objects.len() as u32,
+        },
+        split_pixels,
+        settings: req.settings,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::image::Image;
+    use crate::types::{CameraSpec, LightSpec};
+
+    /// A w×h frame whose left half is truly lit and right half truly occluded, rendered all lit.
+    fn frame(w: u32, h: u32) -> (RenderOutput, Vec<Visibility>) {
+        let n = (w * h) as usize;
+        let truth: Vec<Visibility> = (0..n)
+            .map(|i| {
+                if (i as u32 % w) < w / 2 {
+                    Visibility::Lit
+                } else {
+                    Visibility::Occluded
+                }
+            })
+            .collect();
+        let cam = CameraSpec {
+            eye: DVec3::ZERO,
+            forward: DVec3::Z,
+            up: DVec3::Y,
+            fovy: 1.0,
+            near: 0.1,
+            far: 10.0,
+        };
+        let out = RenderOutput {
+            width: w,
+            height: h,
+            color: Image::new(w, h, [0, 0, 0, 255]),
+            world: vec![[0.0, 0.0, 1.0, 1.0]; n],
+            normal: vec![[0.0, 0.0, -1.0, 0.0]; n],
+            aliasing: vec![1.0; n],
+            split: vec![0; n],
+            shadow: vec![1.0; n],
+            truth: Some(truth.clone()),
+            shadow_maps: Vec::new(),
+            camera: cam,
+            light: LightSpec::Directional {
+                direction: DVec3::Z,
+            },
+            metrics: RenderMetrics::default(),
+        };
+        (out, truth)
+    }
+
+    #[test]
+    fn mismatches_split_into_edge_and_off_edge() {
+        let (out, truth) = frame(10, 6);
+        let s = mismatch_stats(&out, &truth, 1);
+        // Every right-half pixel is a false light; off-edge ones are the interior of the right
+        // half: columns 6..=8 of rows 1..=4 (column 5 touches the lit half, 9 and rows 0, 5 the border).
+        assert_eq!(s.pixels, 60);
+        assert_eq!((s.mismatched, s.false_light, s.false_shadow), (30, 30, 0));
+        assert_eq!(s.off_edge_mismatched, 3 * 4);
+        // Off-edge pixels of both halves: columns 1..=3 and 6..=8, rows 1..=4.
+        assert_eq!(s.off_edge_pixels, 2 * 3 * 4);
+        assert!((s.rate - 0.5).abs() < 1e-12 && (s.rate_off_edges - 0.5).abs() < 1e-12);
+        let m = pixel_matches(&out, &truth, 1);
+        assert_eq!(m[0], PixelMatch::Agree);
+        assert_eq!(m[5], PixelMatch::FalseLight { edge: true });
+        assert_eq!(m[10 + 7], PixelMatch::FalseLight { edge: false });
+    }
+
+    #[test]
+    fn back_facing_pixels_are_not_judged() {
+        let (out, mut truth) = frame(4, 4);
+        for t in truth.iter_mut() {
+            *t = Visibility::BackFacing;
+        }
+        let s = mismatch_stats(&out, &truth, 1);
+        assert_eq!(s.mismatched, 0);
+        assert_eq!(s.pixels, 16);
+    }
+}

@@ -1,0 +1,181 @@
+// Main pass: G-buffer with world position, normal, albedo, shadow term, aliasing and chosen split.
+
+const MAX_MAPS: u32 = 16u;
+
+struct MapInfo {
+    world_to_clip: mat4x4<f32>,
+    // x, y = view-depth range served; z = 1 for a "greater" depth test; w unused.
+    split: vec4<f32>,
+};
+
+struct Frame {
+    view_proj: mat4x4<f32>,
+    eye: vec4<f32>,
+    forward: vec4<f32>,
+    // near, far, width, height
+    cam: vec4<f32>,
+    lin_a: vec4<f32>,
+    // x = linear mode (0 = projective depth)
+    lin_b: vec4<f32>,
+    // x = map count, y = shadow resolution, z = pcf (0 off, 1 hardware, 2 kernel), w = kernel radius
+    params: vec4<f32>,
+    // x = blend band (fraction of split length)
+    params2: vec4<f32>,
+    maps: array<MapInfo, MAX_MAPS>,
+};
+
+@group(0) @binding(0) var<uniform> f: Frame;
+@group(0) @binding(1) var shadow_tex: texture_depth_2d_array;
+// One "less-equal" comparison sampler (bilinear, or nearest when PCF is off): GL allows one
+// sampler per texture in a shader. "Greater" maps are stored as 1 − z, so they compare the same way.
+@group(0) @binding(2) var cmp: sampler_comparison;
+
+struct VsOut {
+    @builtin(position) pos: vec4<f32>,
+    @location(0) world: vec3<f32>,
+    @location(1) color: vec4<f32>,
+};
+
+@vertex
+fn vs(@location(0) p: vec3<f32>, @location(1) color: vec4<f32>) -> VsOut {
+    var o: VsOut;
+    o.pos = f.view_proj * vec4<f32>(p, 1.0);
+    o.world = p;
+    o.color = color;
+    return o;
+}
+
+fn linear_depth(p: vec3<f32>) -> f32 {
+    if (f.lin_b.x < 1.5) {
+        return dot(f.lin_a.xyz, p) + f.lin_a.w;
+    }
+    return length(p - f.lin_a.xyz) * f.lin_a.w;
+}
+
+// Whether the map's clip volume contains p (w > 0, |x|, |y| ≤ w, 0 ≤ z ≤ w in linear mode
+// only x, y matter since depth is stored independently of the matrix).
+fn map_contains(i: u32, p: vec3<f32>) -> bool {
+    let c = f.maps[i].world_to_clip * vec4<f32>(p, 1.0);
+    if (!(c.w > 0.0) || abs(c.x) > c.w || abs(c.y) > c.w) {
+        return false;
+    }
+    if (f.lin_b.x > 0.5) {
+        return true;
+    }
+    return c.z >= 0.0 && c.z <= c.w;
+}
+
+fn compare_tap(i: u32, uv: vec2<f32>, r: f32) -> f32 {
+    return textureSampleCompareLevel(shadow_tex, cmp, uv, i, r);
+}
+
+// Fraction of the light reaching p according to map i (1 = lit).
+fn shadow_lookup(i: u32, p: vec3<f32>) -> f32 {
+    let c = f.maps[i].world_to_clip * vec4<f32>(p, 1.0);
+    let ndc = c.xyz / c.w;
+    let uv = vec2<f32>(0.5 + 0.5 * ndc.x, 0.5 - 0.5 * ndc.y);
+    var r: f32;
+    if (f.lin_b.x > 0.5) {
+        r = linear_depth(p);
+    } else {
+        // NOTE: the clamp keeps receivers on the map's far face (z = 1 up to rounding) from being
+        // compared against the cleared value 1 and shadowing themselves.
+        r = clamp(ndc.z, 0.0, 1.0);
+        if (f.maps[i].split.z > 0.5) {
+            r = 1.0 - r;
+        }
+    }
+    if (u32(f.params.z) < 2u) {
+        return compare_tap(i, uv, r);
+    }
+    let k = i32(f.params.w);
+    let texel = 1.0 / f.params.y;
+    var sum = 0.0;
+    for (var y = -k; y <= k; y = y + 1) {
+        for (var x = -k; x <= k; x = x + 1) {
+            sum = sum + compare_tap(i, uv + vec2<f32>(f32(x), f32(y)) * texel, r);
+        }
+    }
+    let n = f32(2 * k + 1);
+    return sum / (n * n);
+}
+
+// Screen pixels per shadow texel: e = 1/sqrt(|det ∂t/∂(x,y)|), t = texcoord × resolution.
+// Chain rule on t = (res/2)·(c.xy/c.w) + const with c = M·p and ∂c = M·∂p (w-component 0):
+//   ∂t = (res/2)·(∂c.xy·c.w − c.xy·∂c.w)/c.w².
+// Computed from the world-position derivatives, which are taken in uniform control flow.
+fn aliasing(i: u32, p: vec3<f32>, dx: vec3<f32>, dy: vec3<f32>) -> f32 {
+    let m = f.maps[i].world_to_clip;
+    let c = m * vec4<f32>(p, 1.0);
+    let cx = m * vec4<f32>(dx, 0.0);
+    let cy = m * vec4<f32>(dy, 0.0);
+    let k = 0.5 * f.params.y / (c.w * c.w);
+    let tx = k * (cx.xy * c.w - c.xy * cx.w);
+    let ty = k * (cy.xy * c.w - c.xy * cy.w);
+    let det = abs(tx.x * ty.y - tx.y * ty.x);
+    if (!(det > 0.0)) {
+        return 3.0e38;
+    }
+    return inverseSqrt(det);
+}
+
+// Float data go out as f32 bits in 32-bit integer targets: float colour targets are not
+// renderable on every GL driver (Mesa's core profile among them), integer ones are.
+struct GOut {
+    // xyz world, w = 1 receiver, 2 other geometry (all-zero bits = background after clear)
+    @location(0) world: vec4<u32>,
+    // xyz unit normal facing the camera
+    @location(1) normal: vec4<f32>,
+    @location(2) albedo: vec4<f32>,
+    // x = aliasing e (−1 when uncovered), y = view depth, z = shadow term, w = chosen map (−1 none)
+    @location(3) aux: vec4<u32>,
+};
+
+@fragment
+fn fs(in: VsOut) -> GOut {
+    let p = in.world;
+    let dx = dpdx(p);
+    let dy = dpdy(p);
+    var n = normalize(cross(dx, dy));
+    if (dot(n, f.eye.xyz - p) < 0.0) {
+        n = -n;
+    }
+    // NOTE: a visible point's true depth lies in [near, far]; the f32 dot product can land a
+    // rounding error outside, which must not make a pixel at the frustum's ends "uncovered".
+    let depth = clamp(dot(p - f.eye.xyz, f.forward.xyz), f.cam.x, f.cam.y);
+    let count = u32(f.params.x);
+    var chosen = -1;
+    for (var i = 0u; i < count; i = i + 1u) {
+        let s = f.maps[i].split;
+        if (depth >= s.x && depth <= s.y && map_contains(i, p)) {
+            chosen = i32(i);
+            break;
+        }
+    }
+    var vis = 1.0;
+    var e = -1.0;
+    if (chosen >= 0) {
+        let i = u32(chosen);
+        vis = shadow_lookup(i, p);
+        e = aliasing(i, p, dx, dy);
+        // Blend band: over the last fraction of this split, fade into the next map that covers p.
+        let band = f.params2.x;
+        let s = f.maps[i].split;
+        let len = (s.y - s.x) * band;
+        if (band > 0.0 && len > 0.0 && depth > s.y - len) {
+            for (var j = i + 1u; j < count; j = j + 1u) {
+                if (map_contains(j, p)) {
+                    let t = clamp((depth - (s.y - len)) / len, 0.0, 1.0);
+                    vis = mix(vis, shadow_lookup(j, p), t);
+                    break;
+                }
+            }
+        }
+    }
+    var o: GOut;
+    o.world = bitcast<vec4<u32>>(vec4<f32>(p, select(2.0, 1.0, in.color.a > 0.75)));
+    o.normal = vec4<f32>(n, 0.0);
+    o.albedo = vec4<f32>(in.color.rgb, 1.0);
+    o.aux = bitcast<vec4<u32>>(vec4<f32>(e, depth, vis, f32(chosen)));
+    return o;
+}

@@ -1,0 +1,153 @@
+//! `shadowfocus render` and `shadowfocus demo`: focusing + the validation renderer.
+
+use super::fit::FitOptions;
+use serde_json::{json, Value};
+use shadowfocus_focus::{cull_casters, fit, DepthTest, FocusResult, FocusSettings, Method};
+use shadowfocus_geom::{Aabb, Camera, Frustum, Light};
+use shadowfocus_render as render;
+use render::{contact_sheet, write_outputs, Image, LightSpec, RenderRequest, Renderer, Scene, ShadowMapSpec};
+use std::path::Path;
+use std::time::Instant;
+
+/// The geometry-side camera, light and scene box of a render scene.
+pub fn scene_inputs(scene: &Scene, aspect: f64) -> Result<(Camera, Light, Aabb), String> {
+    let c = scene.camera;
+    let camera = Camera { eye: c.eye, forward: c.forward, up: c.up, fovy: c.fovy, aspect, near: c.near, far: c.far };
+    let light = match scene.light {
+        LightSpec::Directional { direction } => Light::directional(direction),
+        LightSpec::Point { position } => Light::point(position),
+        s @ LightSpec::Spot { position, .. } => {
+            let corners = s.spot_frustum_corners().ok_or("spot light without a frustum")?;
+            Frustum::from_corners(corners).and_then(|f| Light::spot(position, f))
+        }
+    }
+    .map_err(|e| e.to_string())?;
+    let bounds = Aabb::new(scene.bounds.min, scene.bounds.max).map_err(|e| e.to_string())?;
+    Ok((camera, light, bounds))
+}
+
+/// Fits the maps for a scene and turns them into renderer map specs with
+/// culled caster lists. Returns the specs, the focusing time in µs and the
+/// fit's skip/notes summary.
+pub fn fit_scene(scene: &Scene, aspect: f64, settings: &FocusSettings) -> Result<(Vec<ShadowMapSpec>, f64, Value), String> {
+    let (camera, light, bounds) = scene_inputs(scene, aspect)?;
+    let mut result = FocusResult::new();
+    // Focusing time: median of a few fits (the first one warms caches).
+    let mut times = Vec::new();
+    for _ in 0..7 {
+        let t = Instant::now();
+        fit(&camera, &light, &bounds, settings, &mut result).map_err(|e| e.to_string())?;
+        times.push(t.elapsed().as_secs_f64() * 1e6);
+    }
+    let focusing_us = super::body::median(&mut times);
+    let boxes: Vec<Aabb> = scene.objects.iter().map(|o| Aabb { min: o.aabb.min, max: o.aabb.max }).collect();
+    let mut idx = vec![0u32; boxes.len()];
+    let mut specs = Vec::new();
+    for m in result.maps().iter().filter(|m| m.is_active()) {
+        let n = cull_casters(m, &boxes, &mut idx);
+        specs.push(ShadowMapSpec {
+            world_to_clip: m.matrix_f32,
+            depth_test: match m.depth_test {
+                DepthTest::Less => render::DepthTest::Less,
+                DepthTest::Greater => render::DepthTest::Greater,
+            },
+            split: [m.split_range[0] as f32, m.split_range[1] as f32],
+            casters: idx[..n].to_vec(),
+        });
+    }
+    let summary = json!({
+        "skipped": result.skipped.names().collect::<Vec<_>>(),
+        "notes": result.notes.names().collect::<Vec<_>>(),
+        "maps_fitted": result.maps().len(),
+        "maps_active": specs.len(),
+    });
+    Ok((specs, focusing_us, summary))
+}
+
+/// Renders one scene with one configuration and writes its outputs.
+pub fn render_to(renderer: &mut Renderer, scene: &Scene, opts: &FitOptions, size: (u32, u32), dir: &Path) -> Result<render::RenderOutput, String> {
+    let settings = opts.settings()?;
+    let aspect = size.0 as f64 / size.1 as f64;
+    let (maps, focusing_us, summary) = fit_scene(scene, aspect, &settings)?;
+    let mut req = RenderRequest::new(scene, &maps);
+    req.settings.width = size.0;
+    req.settings.height = size.1;
+    req.settings.shadow_resolution = opts.resolution;
+    let out = renderer.render(&req).map_err(|e| e.to_string())?;
+    let extra = json!({
+        "method": opts.method.name(),
+        "splits": opts.splits,
+        "scheme": opts.scheme,
+        "resolution": opts.resolution,
+        "focusing_us": focusing_us,
+        "fit": summary,
+    });
+    write_outputs(dir, &out, Some(&extra)).map_err(|e| e.to_string())?;
+    Ok(out)
+}
+
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s.split_once('x').ok_or_else(|| format!("size {s:?} is not WxH"))?;
+    let w: u32 = w.parse().map_err(|_| format!("bad width in {s:?}"))?;
+    let h: u32 = h.parse().map_err(|_| format!("bad height in {s:?}"))?;
+    if w == 0 || h == 0 || w > 8192 || h > 8192 {
+        return Err(format!("size {s:?} out of range (1..8192)"));
+    }
+    Ok((w, h))
+}
+
+/// The demo's configurations at one texel budget: four single-map methods
+/// at R², and four splits at (R/2)² each.
+pub fn demo_configs(resolution: u32) -> Vec<(String, FitOptions)> {
+    let base = |method, splits, res| FitOptions { method, splits, scheme: "practical".into(), lambda: 0.5, resolution: res, stable: false };
+    vec![
+        ("uniform".into(), base(Method::Uniform, 1, resolution)),
+        ("psm".into(), base(Method::Psm, 1, resolution)),
+        ("lispsm".into(), base(Method::Lispsm, 1, resolution)),
+        ("tsm".into(), base(Method::Tsm, 1, resolution)),
+        ("pssm4-lispsm".into(), base(Method::Lispsm, 4, resolution / 2)),
+    ]
+}
+
+fn progress(done: usize, total: usize, label: &str) {
+    let width = 30;
+    let filled = done * width / total.max(1);
+    eprint!("\r[{}{}] {done}/{total} {label:<40}", "#".repeat(filled), "-".repeat(width - filled));
+    if done == total {
+        eprintln!();
+    }
+}
+
+/// Renders every built-in scene with every demo configuration into `dir`,
+/// plus `contact_sheet.png` and `summary.json`.
+pub fn demo(dir: &Path, size: (u32, u32), resolution: u32, scenes: &[String]) -> Result<Value, String> {
+    let mut renderer = Renderer::from_env().map_err(|e| e.to_string())?;
+    let configs = demo_configs(resolution);
+    let total = scenes.len() * configs.len();
+    let mut tiles: Vec<(Image, String)> = Vec::new();
+    let mut rows = Vec::new();
+    let mut done = 0;
+    for name in scenes {
+        let scene = render::load_scene(name).map_err(|e| e.to_string())?;
+        for (label, opts) in &configs {
+            progress(done, total, &format!("{name} / {label}"));
+            let sub = dir.join(name).join(label);
+            let out = render_to(&mut renderer, &scene, opts, size, &sub)?;
+            let m = &out.metrics;
+            rows.push(json!({
+                "scene": name, "config": label, "aliasing": m.aliasing, "mismatch": m.mismatch,
+                "render_ms": m.render_ms, "casters": m.casters,
+            }));
+            let k = (size.0 / 320).max(1);
+            tiles.push((out.color.downscale(k), format!("{name} {label}")));
+            done += 1;
+        }
+    }
+    progress(done, total, "done");
+    let refs: Vec<(&Image, &str)> = tiles.iter().map(|(i, l)| (i, l.as_str())).collect();
+    let sheet = contact_sheet(&refs, configs.len());
+    sheet.save_png(&dir.join("contact_sheet.png")).map_err(|e| e.to_string())?;
+    let summary = json!({"adapter": renderer.adapter(), "size": [size.0, size.1], "resolution": resolution, "results": rows});
+    std::fs::write(dir.join("summary.json"), serde_json::to_string_pretty(&summary).unwrap()).map_err(|e| e.to_string())?;
+    Ok(summary)
+}
