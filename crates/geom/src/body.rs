@@ -163,9 +163,9 @@ pub struct Body {
     pub(crate) n_faces: usize,
     pub(crate) volume: f64,
     pub(crate) stats: FocusStats,
-    /// Scratch space for the exact computation, kept so that reuse of a
-    /// `Body` costs no re-initialisation.
-    work: Option<Polytope>,
+    /// Scratch space for the exact computation, allocated on first use and
+    /// kept, so that reusing a `Body` allocates and re-initialises nothing.
+    work: Option<Box<Polytope>>,
 }
 
 impl Default for Body {
@@ -255,7 +255,7 @@ impl Body {
     /// The exact (unrounded) body behind the rounded one, for exact
     /// containment queries. `None` before the first computation.
     pub fn exact(&self) -> Option<&Polytope> {
-        self.work.as_ref()
+        self.work.as_deref()
     }
 
     /// The smallest box around the rounded vertices, `None` when empty.
@@ -316,7 +316,7 @@ pub fn focus_body_into(out: &mut Body, view: &Frustum, light: &Light, scene: &Aa
         }
         _ => *scene,
     };
-    let mut work = out.work.take().unwrap_or_else(|| Polytope::from_aabb(&start));
+    let mut work = out.work.take().unwrap_or_else(|| Box::new(Polytope::from_aabb(&start)));
     work.reset_to_aabb(&start);
 
     let result = (|| -> Result<(), GeomError> {

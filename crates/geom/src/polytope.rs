@@ -243,14 +243,14 @@ impl Polytope {
 
     /// Exact side of vertex `v` w.r.t. plane `p`: −1 inside, 0 on, +1 outside.
     fn side(&mut self, v: usize, p: usize) -> i8 {
-        let vert = self.verts[v];
         // NOTE: the filter goes first: a proven non-zero sign is final, and
         // the definitional checks below only matter for values near zero.
-        if let Some(s) = side_value(&self.coef[p], &vert.hom).sign() {
+        if let Some(s) = side_value(&self.coef[p], &self.verts[v].hom).sign() {
             if s != 0 {
-                return s * vert.w_sign;
+                return s * self.verts[v].w_sign;
             }
         }
+        let vert = self.verts[v];
         if self.on_by_definition(&vert, p) {
             return 0;
         }
