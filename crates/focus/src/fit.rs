@@ -1,0 +1,386 @@
+//! One frame: splits, bodies, maps, plan.
+
+use crate::error::FocusError;
+use crate::frame::{perpendicular_hint, tangent_frame};
+use crate::methods::{fit_body, light_point, Fitted, SplitView};
+use crate::project::texel_size;
+use crate::result::{CubeFace, DepthTest, FocusResult, MapState, Notes, ShadowMap, Skipped};
+use crate::settings::{FocusSettings, Method, PointMode};
+use crate::splits::split_depths;
+use crate::MAX_SPLITS;
+use glam::{DMat4, DVec3, Mat4};
+use shadowfocus_geom::{focus_body_into, Aabb, Body, Camera, Frustum, Light};
+
+/// Half-angle margin of cube faces and truncation frusta: the field of view
+/// is widened by 2⁻²⁰ (relative) so that the rounded frusta still overlap;
+/// a rounding allowance, far above the rounding of `tan` and of the corners.
+const CONE_MARGIN: f64 = 1.0 / (1u64 << 20) as f64;
+
+/// Fits the shadow maps of one frame into `out` (no allocation).
+///
+/// For each split `[C_i, C_{i+1}]` of the view depth range, the split's
+/// sub-frustum is built from `camera` with that near and far, its focus body
+/// `H_i = hull(V_i ∪ l) ∩ S ∩ L` is computed exactly, and the configured
+/// method fits a map to it (six maps for an omnidirectional point light).
+/// `out` then holds the maps, the split planes and the plan.
+pub fn fit(camera: &Camera, light: &Light, scene: &Aabb, settings: &FocusSettings, out: &mut FocusResult) -> Result<(), FocusError> {
+    out.clear();
+    settings.validate()?;
+    let basis = camera.basis()?;
+    let scene = Aabb::new(scene.min, scene.max)?;
+    let light = match *light {
+        Light::Directional { direction } => Light::directional(direction)?,
+        Light::Point { position } => Light::point(position)?,
+        Light::Spot { position, frustum } => Light::spot(position, frustum)?,
+    };
+    let mut cam = *camera;
+    if settings.method == Method::Psm {
+        // The engine's tightened visible range (see `PsmSettings`).
+        cam.near = cam.near.max(settings.psm.near.unwrap_or(cam.near));
+        cam.far = cam.far.min(settings.psm.far.unwrap_or(cam.far));
+        if !(cam.near < cam.far) {
+            return Err(FocusError::InvalidSettings { what: "psm.near/psm.far", reason: "leave no depth range inside the camera's" });
+        }
+    }
+    let mut depths = [0.0; MAX_SPLITS + 1];
+    let m = split_depths(cam.near, cam.far, &settings.splits, &mut depths);
+    out.set_splits(&depths, m);
+
+    for i in 0..m {
+        let (z0, z1) = (depths[i], depths[i + 1]);
+        if !(z0 < z1) {
+            // Emptied by δ_bias: a zero-depth split has no body.
+            let map = push(out)?;
+            map.split = i;
+            map.face = None;
+            map.split_range = [z0, z1];
+            map.light = light;
+            map.set_empty();
+            map.body_valid = false;
+            continue;
+        }
+        let sub = Camera { near: z0, far: z1, ..cam };
+        let view = Frustum::from_camera(&sub)?;
+        let sv = SplitView { camera: &sub, basis, settings };
+        match light {
+            Light::Point { position } => point_maps(out, &sv, &view, position, &scene, i)?,
+            _ => {
+                let map = push(out)?;
+                begin(map, &sv, i, None, light);
+                focus_body_into(&mut map.body, &view, &light, &scene)?;
+                map.body_valid = true;
+                if !finish(map, &sv) {
+                    return Err(FocusError::NoSingleProjection { reason: "the light's apex is not outside the body (a spot position inconsistent with its frustum?)" });
+                }
+            }
+        }
+    }
+    plan(out, settings, &light, &scene);
+    Ok(())
+}
+
+fn push(out: &mut FocusResult) -> Result<&mut ShadowMap, FocusError> {
+    out.push().ok_or(FocusError::Capacity { what: "shadow maps" })
+}
+
+fn begin(map: &mut ShadowMap, sv: &SplitView, split: usize, face: Option<CubeFace>, light: Light) {
+    map.split = split;
+    map.face = face;
+    map.split_range = [sv.camera.near, sv.camera.far];
+    map.light = light;
+    map.psm_shift = 0.0;
+    map.warp_near = f64::INFINITY;
+    map.method = sv.settings.method;
+    map.flags = 0;
+}
+
+/// Fits the map's (already computed) body; `false` if no single projection
+/// from the map's light can see it.
+fn finish(map: &mut ShadowMap, sv: &SplitView) -> bool {
+    if map.body.is_empty() {
+        map.set_empty();
+        return true;
+    }
+    let Some(f) = fit_body(sv, &map.light, &map.body) else { return false };
+    store(map, sv, &f);
+    true
+}
+
+fn store(map: &mut ShadowMap, sv: &SplitView, f: &Fitted) {
+    let r = map_fit(sv, &map.light, f);
+    map.state = r.state;
+    map.matrix = r.matrix;
+    map.matrix_f32 = r.matrix_f32;
+    map.depth_test = r.depth_test;
+    map.texel_size = r.texel_size;
+    map.method = r.method;
+    map.warp_near = r.warp_near;
+    map.psm_shift = r.psm_shift;
+    map.f32_exact = r.f32_exact;
+    map.flags = (f.warp_vanished as u8) | (f.psm_fell_back as u8) << 1 | (f.stable_ignored as u8) << 2;
+}
+
+fn map_fit(sv: &SplitView, light: &Light, f: &Fitted) -> MapFit {
+    let lp = light_point(light);
+    let res = sv.settings.resolution;
+    let (eye, fwd) = (sv.camera.eye, sv.basis.forward);
+    MapFit {
+        state: MapState::Active,
+        matrix: f.m,
+        matrix_f32: (f.m * DMat4::from_translation(sv.settings.f32_origin)).as_mat4(),
+        f32_exact: f.f32_exact,
+        // The depth row's side of the light decides the test (see `project`).
+        depth_test: if f.m.row(2).dot(lp) < 0.0 { DepthTest::Less } else { DepthTest::Greater },
+        texel_size: [
+            texel_size(&f.m, lp, eye + fwd * sv.camera.near, res),
+            texel_size(&f.m, lp, eye + fwd * sv.camera.far, res),
+        ],
+        method: f.method,
+        warp_near: f.warp_near,
+        psm_shift: f.psm_shift,
+    }
+}
+
+/// The matrices of one map, as [`fit_map`] returns them (the same fields
+/// as [`ShadowMap`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MapFit {
+    pub state: MapState,
+    pub matrix: DMat4,
+    pub matrix_f32: Mat4,
+    pub f32_exact: bool,
+    pub depth_test: DepthTest,
+    pub texel_size: [f64; 2],
+    pub method: Method,
+    pub warp_near: f64,
+    pub psm_shift: f64,
+}
+
+/// Fits one map to a body the caller computed (for engines with their own
+/// bodies, and to time the fitting alone). `camera` is the split's camera
+/// (its near and far are the split range); `settings.splits` is ignored. A
+/// point light must not lie in the body (pass the spot that truncates it).
+pub fn fit_map(camera: &Camera, light: &Light, body: &Body, settings: &FocusSettings) -> Result<MapFit, FocusError> {
+    settings.validate()?;
+    let basis = camera.basis()?;
+    if body.is_empty() {
+        return Ok(MapFit {
+            state: MapState::Empty,
+            matrix: DMat4::ZERO,
+            matrix_f32: Mat4::ZERO,
+            f32_exact: true,
+            depth_test: DepthTest::Less,
+            texel_size: [f64::INFINITY; 2],
+            method: settings.method,
+            warp_near: f64::INFINITY,
+            psm_shift: 0.0,
+        });
+    }
+    let sv = SplitView { camera, basis, settings };
+    let f = fit_body(&sv, light, body).ok_or(FocusError::NoSingleProjection { reason: "the light lies in the body or sees it over a half-space" })?;
+    Ok(map_fit(&sv, light, &f))
+}
+
+/// A point light: one perspective map toward the view, or six cube faces.
+fn point_maps(out: &mut FocusResult, sv: &SplitView, view: &Frustum, l: DVec3, scene: &Aabb, split: usize) -> Result<(), FocusError> {
+    if sv.settings.point == PointMode::Cube {
+        return cube_faces(out, sv, view, l, scene, split);
+    }
+    let light = Light::Point { position: l };
+    let map = push(out)?;
+    begin(map, sv, split, None, light);
+    focus_body_into(&mut map.body, view, &light, scene)?;
+    map.body_valid = true;
+    if map.body.is_empty() {
+        map.set_empty();
+        return Ok(());
+    }
+    if scene.contains(l) {
+        // l ∈ hull(V ∪ l) ∩ S = H: no perspective map contains its own
+        // centre. Cut H at distance `light_near` along an axis that sees all
+        // of H's other points, as a spot light, and map the rest.
+        match truncation_frustum(sv, &map.body, l)? {
+            Truncation::Frustum(fr) => {
+                let spot = Light::spot(l, fr)?;
+                map.light = spot;
+                focus_body_into(&mut map.body, view, &spot, scene)?;
+                if finish(map, sv) {
+                    return Ok(());
+                }
+            }
+            Truncation::AllNear => {
+                map.set_empty();
+                return Ok(());
+            }
+            Truncation::NoCone => {}
+        }
+    } else if finish(map, sv) {
+        return Ok(());
+    }
+    // The light is inside the view frustum (or sees H over more than a
+    // half-space): six faces.
+    out.pop();
+    out.notes.insert(Notes::POINT_AS_CUBE);
+    cube_faces(out, sv, view, l, scene, split)
+}
+
+// NOTE: returned once per point-light split, never stored: the size
+// difference between variants costs nothing and boxing would allocate.
+#[allow(clippy::large_enum_variant)]
+enum Truncation {
+    Frustum(Frustum),
+    /// All of H lies within `light_near` of the light.
+    AllNear,
+    /// The directions from the light to H do not fit in an open half-space.
+    NoCone,
+}
+
+/// A symmetric frustum from `l` (near = `light_near`) containing every
+/// point of `body` at depth ≥ near along its axis.
+fn truncation_frustum(sv: &SplitView, body: &Body, l: DVec3) -> Result<Truncation, FocusError> {
+    let verts = body.vertices();
+    // Directions to the vertices other than the light itself.
+    let mut lo = DVec3::splat(f64::INFINITY);
+    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    for p in verts.iter().filter(|p| **p != l) {
+        let u = (*p - l).normalize();
+        lo = lo.min(u);
+        hi = hi.max(u);
+    }
+    let mut a = ((lo + hi) * 0.5).normalize_or_zero();
+    let min_dot = |a: DVec3| verts.iter().filter(|p| **p != l).map(|p| a.dot((*p - l).normalize())).fold(f64::INFINITY, f64::min);
+    let mut k = 0;
+    while a != DVec3::ZERO && !(min_dot(a) > 0.0) && k < 64 {
+        let worst = verts
+            .iter()
+            .filter(|p| **p != l)
+            .map(|p| (*p - l).normalize())
+            .min_by(|x, y| a.dot(*x).total_cmp(&a.dot(*y)))
+            .unwrap_or(DVec3::ZERO);
+        a = (a + worst).normalize_or_zero();
+        k += 1;
+    }
+    if a == DVec3::ZERO || !(min_dot(a) > 0.0) {
+        return Ok(Truncation::NoCone);
+    }
+    let hint = perpendicular_hint(sv.basis.forward, sv.basis.right + sv.basis.up);
+    let (right, up) = tangent_frame(a, sv.basis.forward, hint);
+    let (mut tx, mut ty, mut far) = (0.0f64, 0.0f64, 0.0f64);
+    for p in verts.iter().filter(|p| **p != l) {
+        let u = *p - l;
+        let depth = a.dot(u);
+        tx = tx.max(right.dot(u).abs() / depth);
+        ty = ty.max(up.dot(u).abs() / depth);
+        far = far.max(depth);
+    }
+    let near = sv.settings.light_near;
+    far *= 1.0 + CONE_MARGIN;
+    if !(far > near) {
+        return Ok(Truncation::AllNear);
+    }
+    // Keep both half-angles positive and finite (a flat body seen edge-on).
+    let t_max = tx.max(ty).max(1e-9);
+    let (tx, ty) = (tx.max(t_max * 1e-6), ty.max(t_max * 1e-6));
+    let cam = Camera {
+        eye: l,
+        forward: a,
+        up,
+        fovy: 2.0 * (ty * (1.0 + CONE_MARGIN)).atan(),
+        aspect: tx / ty,
+        near,
+        far,
+    };
+    if !(cam.fovy < std::f64::consts::PI) {
+        return Ok(Truncation::NoCone);
+    }
+    Ok(Truncation::Frustum(Frustum::from_camera(&cam)?))
+}
+
+/// Six 90° faces (widened by `CONE_MARGIN` so they overlap), each a spot
+/// light from `l` with near `light_near` and far reaching the scene box's
+/// farthest corner along the face axis; each focused on its own body.
+fn cube_faces(out: &mut FocusResult, sv: &SplitView, view: &Frustum, l: DVec3, scene: &Aabb, split: usize) -> Result<(), FocusError> {
+    let near = sv.settings.light_near;
+    for face in CubeFace::ALL {
+        let (axis, up) = face.axes();
+        let mut far = f64::NEG_INFINITY;
+        for k in 0..8 {
+            let c = DVec3::new(
+                if k & 1 == 0 { scene.min.x } else { scene.max.x },
+                if k & 2 == 0 { scene.min.y } else { scene.max.y },
+                if k & 4 == 0 { scene.min.z } else { scene.max.z },
+            );
+            far = far.max(axis.dot(c - l));
+        }
+        far *= 1.0 + CONE_MARGIN;
+        let map = push(out)?;
+        begin(map, sv, split, Some(face), Light::Point { position: l });
+        if !(far > near) {
+            map.set_empty();
+            map.body_valid = false;
+            continue;
+        }
+        let cam = Camera { eye: l, forward: axis, up, fovy: 2.0 * (1.0 + CONE_MARGIN).atan(), aspect: 1.0, near, far };
+        let spot = Light::spot(l, Frustum::from_camera(&cam)?)?;
+        map.light = spot;
+        focus_body_into(&mut map.body, view, &spot, scene)?;
+        map.body_valid = true;
+        if !finish(map, sv) {
+            return Err(FocusError::NoSingleProjection { reason: "a cube face cannot see its body" });
+        }
+    }
+    Ok(())
+}
+
+/// Aggregates what the frame skipped and where it departed from the request.
+fn plan(out: &mut FocusResult, settings: &FocusSettings, light: &Light, scene: &Aabb) {
+    let mut skipped = Skipped::default();
+    let mut notes = out.notes;
+    let (mut light_clip, mut scene_clip, mut computed) = (true, true, false);
+    let mut any_shift = false;
+    for map in out.maps() {
+        if map.body_valid {
+            computed = true;
+            light_clip &= map.body.stats().light_clip_skipped;
+            scene_clip &= map.body.stats().scene_clip_skipped;
+        }
+        if map.state == MapState::Empty {
+            skipped.insert(Skipped::EMPTY_MAPS);
+            continue;
+        }
+        any_shift |= map.psm_shift > 0.0;
+        if map.flags & 1 != 0 && matches!(settings.method, Method::Lispsm | Method::Tsm) {
+            skipped.insert(Skipped::WARP);
+        }
+        if map.flags & 2 != 0 {
+            notes.insert(Notes::PSM_FELL_BACK);
+        }
+        if map.flags & 4 != 0 {
+            notes.insert(Notes::STABLE_IGNORED);
+        }
+        if map.depth_test == DepthTest::Greater {
+            notes.insert(Notes::INVERTED);
+        }
+        if !map.f32_exact {
+            notes.insert(Notes::F32_IMPRECISE);
+        }
+    }
+    if computed && light_clip {
+        skipped.insert(Skipped::LIGHT_CLIP);
+    }
+    if computed && scene_clip {
+        skipped.insert(Skipped::SCENE_CLIP);
+    }
+    if let Light::Point { position } = *light {
+        // The cube of half-size light_near around the light meets S.
+        let r = DVec3::splat(settings.light_near);
+        if (position + r).cmpge(scene.min).all() && (position - r).cmple(scene.max).all() {
+            notes.insert(Notes::LIGHT_NEAR);
+        }
+    }
+    if settings.method == Method::Psm && !any_shift {
+        skipped.insert(Skipped::PSM_SHIFT);
+    }
+    out.skipped = skipped;
+    out.notes = notes;
+}

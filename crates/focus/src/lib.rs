@@ -1,0 +1,103 @@
+//! Shadow-map focusing: from a camera, a light and the scene's bounding box
+//! to the matrices an engine renders its shadow maps with.
+//!
+//! Every map is fitted to the exact focus body of
+//! [`shadowfocus_geom`], `H = hull(V ∪ {l}) ∩ S ∩ L` — the part of the
+//! scene that can cast a shadow into the view — with one of four
+//! parameterisations ([`Method`]): the focused uniform map, perspective
+//! shadow maps (PSM, including inverted lights and the virtual camera
+//! shift), light-space perspective shadow maps (LiSPSM) and trapezoidal
+//! shadow maps (TSM), optionally per parallel split of the view depth range
+//! (PSSM) and, for directional lights with the uniform method, texel-snapped
+//! and camera-rotation invariant (`stable`).
+//!
+//! # Conventions
+//!
+//! [`ShadowMap::matrix`] maps world points to clip space in the
+//! wgpu/D3D/Vulkan convention: after dividing by `w`, `x, y ∈ [−1, 1]` and
+//! depth `z ∈ [0, 1]`. Render the map with the comparison
+//! [`ShadowMap::depth_test`] (`Less`, or `Greater` for PSM's inverted
+//! lights) and sample it with the same comparison. Every vertex of the
+//! map's body lies inside the clip volume `w > 0, −w ≤ x, y ≤ w,
+//! 0 ≤ z ≤ w`, in f64 and also with [`ShadowMap::matrix_f32`] evaluated in
+//! f32. Split ranges are view depths along the camera's forward axis;
+//! [`FocusResult::split_clip_depths`] gives the same planes as depths of the
+//! right-handed camera projection with depth in `[0, 1]` (glam's `perspective_rh`):
+//! `z_clip/w_clip = f/(f − n)·(1 − n/z)` at view depth `z`.
+//!
+//! # Cost
+//!
+//! [`fit`] allocates nothing: [`FocusResult`] holds a fixed number of maps
+//! ([`MAX_MAPS`]) and is refilled every frame. Invalid input gives a
+//! [`FocusError`]; an empty body gives a map in state [`MapState::Empty`]
+//! with a zero matrix, never NaN.
+//!
+//! # One frame
+//!
+//! ```
+//! use shadowfocus_focus::{cull_casters, fit, FocusResult, FocusSettings, Method, SplitScheme, SplitSettings};
+//! use shadowfocus_geom::{Aabb, Camera, Light};
+//! use glam::DVec3;
+//!
+//! let camera = Camera {
+//!     eye: DVec3::new(0.0, 2.0, 10.0),
+//!     forward: DVec3::new(0.0, -0.1, -1.0),
+//!     up: DVec3::Y,
+//!     fovy: 60f64.to_radians(),
+//!     aspect: 16.0 / 9.0,
+//!     near: 0.5,
+//!     far: 200.0,
+//! };
+//! let sun = Light::directional(DVec3::new(0.4, -1.0, 0.3))?;
+//! let scene = Aabb::new(DVec3::new(-100.0, 0.0, -200.0), DVec3::new(100.0, 30.0, 20.0))?;
+//! let settings = FocusSettings {
+//!     method: Method::Lispsm,
+//!     splits: SplitSettings { count: 4, scheme: SplitScheme::Practical { lambda: 0.5 }, delta_bias: 0.0 },
+//!     resolution: 2048,
+//!     ..FocusSettings::default()
+//! };
+//!
+//! let mut frame = FocusResult::new(); // once
+//! fit(&camera, &sun, &scene, &settings, &mut frame)?; // every frame
+//!
+//! let casters = [Aabb::new(DVec3::new(-1.0, 0.0, -5.0), DVec3::new(1.0, 3.0, -3.0))?];
+//! let mut visible = [0u32; 1];
+//! for map in frame.maps().iter().filter(|m| m.is_active()) {
+//!     let _upload: [f32; 16] = map.matrix_f32.to_cols_array();
+//!     let n = cull_casters(map, &casters, &mut visible);
+//!     // render casters visible[..n] into the map with map.depth_test …
+//!     # let _ = n;
+//! }
+//! assert_eq!(frame.split_depths().len(), 5);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+// NOTE: `!(x > 0.0)` is deliberate throughout: it is true for NaN, so
+// non-finite values fail validity checks instead of slipping through.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+mod camera;
+mod cone;
+mod cull;
+mod error;
+mod fit;
+mod frame;
+mod methods;
+mod project;
+mod result;
+mod settings;
+mod splits;
+
+pub use camera::{camera_from_corners, RecoveredCamera};
+pub use cull::{cull_casters, CasterRegion, MAX_REGION_PLANES};
+pub use error::FocusError;
+pub use fit::{fit, fit_map, MapFit};
+pub use frame::S0 as ORIENTATION_BLEND_SIN;
+pub use result::{CubeFace, DepthTest, FocusResult, MapState, Notes, ShadowMap, Skipped};
+pub use settings::{FocusSettings, LispsmSettings, Method, PointMode, PsmSettings, SplitScheme, SplitSettings, TsmSettings, WarpDirection};
+pub use splits::{clip_depth, split_depths};
+
+/// Most parallel splits.
+pub const MAX_SPLITS: usize = 8;
+/// Most maps of one frame: every split of an omnidirectional light.
+pub const MAX_MAPS: usize = 6 * MAX_SPLITS;

@@ -1,0 +1,388 @@
+//! Projective building blocks shared by every method: the central
+//! projection from a (homogeneous, oriented) light, the LiSPSM/TSM warp in
+//! the light's image plane, the crop to the clip volume with rounding
+//! margins, and texel footprints.
+//!
+//! Maps are 4×4 matrices acting on homogeneous points `(x, 1)`; a row is a
+//! plane (dual vector). A shadow map projecting from the light `L` must have
+//! its `x`, `y` and `w` rows through `L` (`row · L = 0`): then every light
+//! ray maps to one texel. The depth row `z` is any plane not through `L`;
+//! along a light ray beyond a point `X` (the points `X − μL`, μ ∈ (0, 1)
+//! for the oriented light point `L`) the stored depth `z/w` changes by
+//! `−μ (z·L)/(w·X)`, so with `w > 0` on the body the point nearer the light
+//! has the smaller depth exactly when `z·L < 0`. That sign is the depth test
+//! ([`crate::DepthTest`]); it is derived, never special-cased, and it is
+//! what makes PSM's inverted lights come out with the reversed test.
+
+use crate::cone::cone_axis;
+use crate::frame::tangent_frame;
+use glam::{DMat4, DVec3, DVec4};
+use shadowfocus_geom::MAX_VERTICES;
+
+/// Matrix from its four rows.
+pub(crate) fn from_rows(x: DVec4, y: DVec4, z: DVec4, w: DVec4) -> DMat4 {
+    DMat4::from_cols(x, y, z, w).transpose()
+}
+
+#[inline]
+pub(crate) fn h(p: DVec3) -> DVec4 {
+    p.extend(1.0)
+}
+
+/// How the depth row of a central projection is chosen.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum DepthKind {
+    /// `z/w = −1/w`: the usual perspective depth (finite lights with
+    /// `L.w > 0`, world space).
+    Perspective,
+    /// The polar plane of the light about the body's centre `c`:
+    /// `z = −σ (ℓ_c · (x − c) + ℓ_w)` with `ℓ_c = ℓ − ℓ_w c`, σ = sign(ℓ_w)
+    /// (σ = 1 for ℓ_w = 0). Orthographic depth along the light for
+    /// directional lights, close to perspective depth for a light near the
+    /// body, and continuous as the light passes through infinity (PSM).
+    Polar,
+}
+
+/// The result of [`central_projection`].
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Central {
+    pub m: DMat4,
+    /// Body centre (AABB centre of the points) in the working space.
+    pub centre: DVec3,
+}
+
+/// A projection from the oriented homogeneous light `light` (working space)
+/// that sees every point of `pts` with `w > 0`; `None` when no single
+/// projection can (the light lies in the points' hull, or the directions to
+/// them do not fit in an open half-space). `v`, `w` orient the image (see
+/// [`tangent_frame`]); `axis_hint` is tried when the default axis fails.
+pub(crate) fn central_projection(
+    light: DVec4,
+    pts: &[DVec3],
+    depth: DepthKind,
+    v: DVec3,
+    w: DVec3,
+    axis_hint: Option<DVec3>,
+) -> Option<Central> {
+    let l = light.truncate();
+    let lw = light.w;
+    // Travel direction of the light at x (a positive multiple of x − l/lw
+    // for lw > 0, of l/lw − x for lw < 0, and −l for lw = 0): lw·x − l.
+    let travel = |x: DVec3| x * lw - l;
+
+    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    for p in pts {
+        lo = lo.min(*p);
+        hi = hi.max(*p);
+    }
+    let c = (lo + hi) * 0.5;
+    let tc = travel(c);
+    let tc_len = tc.length();
+    if !(tc_len > 0.0) || !tc_len.is_finite() {
+        return None;
+    }
+    let tc = tc / tc_len;
+
+    // Axis: the maximin direction of the unit travel directions (see
+    // `cone`); the hint and a few perceptron steps only when rounding leaves
+    // it marginal. A light at infinity travels the same way everywhere.
+    let a = if lw == 0.0 {
+        -l.normalize()
+    } else {
+        let mut units = [DVec3::ZERO; MAX_VERTICES];
+        let units = &mut units[..pts.len().min(MAX_VERTICES)];
+        for (u, p) in units.iter_mut().zip(pts) {
+            let t = travel(*p);
+            let len = t.length();
+            if !(len > 0.0) {
+                return None; // the light is a vertex of the body
+            }
+            *u = t / len;
+        }
+        let min_dot = |a: DVec3| -> (f64, DVec3) {
+            let mut worst = (f64::INFINITY, DVec3::ZERO);
+            for u in units.iter() {
+                let d = a.dot(*u);
+                if d < worst.0 {
+                    worst = (d, *u);
+                }
+            }
+            worst
+        };
+        let mut a = cone_axis(units.len(), |i| units[i]).unwrap_or(tc);
+        let mut ok = min_dot(a).0 > 0.0;
+        if !ok {
+            if let Some(hint) = axis_hint {
+                let hint = hint.normalize_or_zero();
+                if hint != DVec3::ZERO && min_dot(hint).0 > 0.0 {
+                    a = hint;
+                    ok = true;
+                }
+            }
+        }
+        let mut iter = 0;
+        while !ok && iter < 16 {
+            let (_, u) = min_dot(a);
+            a = (a + u).normalize_or_zero();
+            if a == DVec3::ZERO {
+                return None;
+            }
+            ok = min_dot(a).0 > 0.0;
+            iter += 1;
+        }
+        if !ok {
+            return None;
+        }
+        a
+    };
+
+    let (ex, ey) = tangent_frame(tc, v, w);
+    // x and y rows: planes through c containing the travel direction at c,
+    // hence through L (ex·t_c = 0 ⇒ (ex, −ex·c)·(l, lw) = −ex·t_c = 0).
+    let rx = DVec4::new(ex.x, ex.y, ex.z, -ex.dot(c));
+    let ry = DVec4::new(ey.x, ey.y, ey.z, -ey.dot(c));
+    // w row: a·travel(x), scaled by 1/|L| so it stays bounded as L moves
+    // through infinity.
+    let norm = light.length();
+    let aw = a * (lw / norm);
+    let rw = DVec4::new(aw.x, aw.y, aw.z, -a.dot(l) / norm);
+    let rz = match depth {
+        DepthKind::Perspective => DVec4::new(0.0, 0.0, 0.0, -1.0),
+        DepthKind::Polar => {
+            let sigma = if lw < 0.0 { -1.0 } else { 1.0 };
+            let lc = l - c * lw;
+            let n = (lc.length_squared() + lw * lw).sqrt();
+            let k = -sigma / n;
+            DVec4::new(lc.x * k, lc.y * k, lc.z * k, (lw - lc.dot(c)) * k)
+        }
+    };
+    Some(Central { m: from_rows(rx, ry, rz, rw), centre: c })
+}
+
+/// The LiSPSM/TSM warp in the image plane: a perspective along the image
+/// `y` axis with centre at `y = eta0 − 1/epsilon`, `x = xi_c`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Warp {
+    /// 1/n: 0 is no warp (the uniform map), never infinite.
+    pub epsilon: f64,
+    pub xi_c: f64,
+    pub eta0: f64,
+}
+
+/// `m` followed by the warp. With image coordinates `ξ = X/W`, `η = Y/W`
+/// and `t = η − η0 ≥ 0` on the body, the warp is the projective map
+/// `(ξ, t, ζ) ↦ (ξ_c + (ξ − ξ_c)/(1 + εt), t/(1 + εt), ζ/(1 + εt))`: a
+/// perspective with its centre a distance `n = 1/ε` before the body's near
+/// end. Written with ε instead of n it is the identity at ε = 0 and never
+/// divides, so the fall-back to the uniform map as the warp fades is
+/// continuous and NaN-free. Rows stay combinations of X, Y, W, so they
+/// still pass through the light, and `W' = W (1 + εt) ≥ W > 0` on the body.
+pub(crate) fn apply_warp(m: &DMat4, wp: &Warp) -> DMat4 {
+    let (x, y, z, w) = (m.row(0), m.row(1), m.row(2), m.row(3));
+    let t = y - w * wp.eta0;
+    let w2 = w + t * wp.epsilon;
+    let x2 = x + t * (wp.xi_c * wp.epsilon);
+    from_rows(x2, t, z, w2)
+}
+
+/// Relative rounding errors of single and double precision.
+const U32: f64 = 1.0 / (1u64 << 24) as f64;
+const U64: f64 = f64::EPSILON / 2.0;
+/// Error constant of one clip-space coordinate: entry rounding (u), position
+/// rounding (u) and a 4-term dot product (≤ 4u), with room to spare.
+const K: f64 = 8.0;
+
+/// The crop and whether its f32 guarantee holds.
+pub(crate) struct Cropped {
+    pub m: DMat4,
+    /// The f32 matrix (for positions relative to the f32 origin) keeps every
+    /// point inside the clip volume.
+    pub f32_exact: bool,
+}
+
+/// Crops `m` (with `w > 0` at every point) to the clip volume:
+/// `−w ≤ x, y ≤ w`, `0 ≤ z ≤ w`. Returns `None` if some point has `w ≤ 0`.
+///
+/// The crop maps the fitted image range `[c − h, c + h]` of each coordinate
+/// to the clip range, and `h` is chosen so that rounding cannot push a point
+/// out. With `X' = X − cW` (the centred row) and `W` evaluated at a point,
+/// the test `|X'| ≤ h W` survives errors `e_x` in `X'` and `e_w` in `W` when
+///
+/// `h ≥ (|ξ − c| W + e_x) / (W − e_w)`,  ξ = X/W,
+///
+/// so `h` is the maximum of that over the points. The errors are bounded
+/// for both ways the matrix is used: the f64 matrix on world positions
+/// (`e = K u₆₄ Σ_j |M_rj| |p_j|`) and the f32 matrix on positions relative
+/// to `origin` (see [`crate::FocusSettings::f32_origin`]) rounded to f32
+/// (`e = K u₃₂ Σ_j |M'_rj| |p_j − o_j|`, `M' = M · translate(o)`); both are
+/// added. These are rounding allowances, not geometric tolerances: for
+/// ordinary coordinates they grow the map by a few f32 ulps of its extent,
+/// and for degenerate bodies (thinner than the coordinates' resolution)
+/// they give the map the smallest extent the arithmetic can honour. Where
+/// f32 cannot even keep the sign of `w` (`e_w ≥ W` for positions that far
+/// from the origin) only the f64 guarantee is kept and `f32_exact` is false.
+pub(crate) fn crop(m: &DMat4, pts: &[DVec3], origin: DVec3) -> Option<Cropped> {
+    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    for p in pts {
+        let q = *m * h(*p);
+        if !(q.w > 0.0) || !q.is_finite() {
+            return None;
+        }
+        let r = q.truncate() / q.w;
+        lo = lo.min(r);
+        hi = hi.max(r);
+    }
+    if !(lo.is_finite() && hi.is_finite()) {
+        return None;
+    }
+    let centre = (lo + hi) * 0.5;
+    // Degenerate extents (flat or point bodies): at least 2⁻²⁰ of the
+    // overall scale, so the matrix stays finite and invertible.
+    let mut scale = 0.0f64;
+    for k in 0..3 {
+        scale = scale.max(lo[k].abs()).max(hi[k].abs()).max(hi[k] - lo[k]);
+    }
+    if !(scale > 0.0) {
+        scale = 1.0;
+    }
+    let mut half = ((hi - lo) * 0.5).max(DVec3::splat(scale * (1.0 / (1u64 << 20) as f64)));
+
+    let (x, y, z, w) = (m.row(0), m.row(1), m.row(2), m.row(3));
+    let centred = [x - w * centre.x, y - w * centre.y, z - w * centre.z, w];
+    let t = DMat4::from_translation(origin);
+    let rel: [DVec4; 4] = std::array::from_fn(|r| (from_rows(centred[0], centred[1], centred[2], centred[3]) * t).row(r));
+    let mut f32_exact = true;
+    for p in pts {
+        let (pw, pr) = (h(*p), h(*p - origin));
+        let e = |r: usize, with_f32: bool| {
+            let e64 = K * U64 * centred[r].abs().dot(pw.abs());
+            let e32 = if with_f32 { K * U32 * rel[r].abs().dot(pr.abs()) } else { 0.0 };
+            e64 + e32
+        };
+        let wv = w.dot(pw);
+        let use32 = e(3, true) < 0.5 * wv;
+        f32_exact &= use32;
+        let ew = e(3, use32);
+        let q = DVec3::new(centred[0].dot(pw), centred[1].dot(pw), centred[2].dot(pw));
+        for k in 0..3 {
+            let need = (q[k].abs() + e(k, use32)) / (wv - ew);
+            half[k] = half[k].max(need);
+        }
+    }
+    // A few ulps more: covers the rounding of the quantities just computed.
+    half *= 1.0 + 4.0 * U32;
+    let out = from_rows(
+        centred[0] / half.x,
+        centred[1] / half.y,
+        (centred[2] + w * half.z) / (2.0 * half.z),
+        w,
+    );
+    out.is_finite().then_some(Cropped { m: out, f32_exact })
+}
+
+/// Texel footprint at world point `p`: the square root of the area one
+/// texel covers on the plane through `p` perpendicular to the light ray,
+/// for a `res × res` map. `f64::INFINITY` where the map does not see `p`.
+pub(crate) fn texel_size(m: &DMat4, light: DVec4, p: DVec3, res: u32) -> f64 {
+    let q = *m * h(p);
+    if !(q.w > 0.0) {
+        return f64::INFINITY;
+    }
+    let t = p * light.w - light.truncate();
+    let t = t.normalize_or_zero();
+    if t == DVec3::ZERO {
+        return f64::INFINITY;
+    }
+    let (b1, b2) = (t.any_orthonormal_vector(), t.cross(t.any_orthonormal_vector()));
+    // d(x/w) = (x_row·w − x·w_row)/w²
+    let grad = |r: usize| -> DVec3 {
+        let row = m.row(r).truncate();
+        let wr = m.row(3).truncate();
+        (row * q.w - wr * m.row(r).dot(h(p))) / (q.w * q.w)
+    };
+    let (gx, gy) = (grad(0), grad(1));
+    let det = gx.dot(b1) * gy.dot(b2) - gx.dot(b2) * gy.dot(b1);
+    let s = (2.0 / res as f64) / det.abs().sqrt();
+    if s.is_finite() {
+        s
+    } else {
+        f64::INFINITY
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn inside(m: &DMat4, p: DVec3) -> bool {
+        let q = *m * h(p);
+        q.w > 0.0 && q.x.abs() <= q.w && q.y.abs() <= q.w && q.z >= 0.0 && q.z <= q.w
+    }
+
+    #[test]
+    fn directional_projection_is_orthographic_along_the_light() {
+        let d = DVec3::new(0.3, -1.0, 0.2).normalize();
+        let pts = [DVec3::ZERO, DVec3::new(1.0, 2.0, 3.0), DVec3::new(-4.0, 0.5, 1.0)];
+        let c = central_projection((-d).extend(0.0), &pts, DepthKind::Polar, DVec3::NEG_Z, DVec3::X, None).unwrap();
+        let m = crop(&c.m, &pts, DVec3::ZERO).unwrap().m;
+        for p in pts {
+            assert!(inside(&m, p));
+            // Moving along the light keeps the texel and increases depth.
+            let (a, b) = (m * h(p), m * h(p + d * 0.5));
+            assert!((a.x / a.w - b.x / b.w).abs() < 1e-12 && (a.y / a.w - b.y / b.w).abs() < 1e-12);
+            assert!(b.z / b.w > a.z / a.w);
+        }
+        assert!(m.row(2).dot((-d).extend(0.0)) < 0.0, "less test");
+    }
+
+    #[test]
+    fn point_projection_rays_share_texels() {
+        let l = DVec3::new(0.0, 10.0, 0.0);
+        let pts = [DVec3::new(-3.0, 0.0, -3.0), DVec3::new(3.0, 0.0, -3.0), DVec3::new(0.0, 1.0, 4.0)];
+        let c = central_projection(l.extend(1.0), &pts, DepthKind::Perspective, DVec3::NEG_Z, DVec3::X, None).unwrap();
+        let m = crop(&c.m, &pts, DVec3::ZERO).unwrap().m;
+        for p in pts {
+            assert!(inside(&m, p));
+            let q = l + (p - l) * 0.7;
+            let (a, b) = (m * h(p), m * h(q));
+            assert!((a.x / a.w - b.x / b.w).abs() < 1e-12);
+            assert!(b.z / b.w < a.z / a.w, "nearer the light, smaller depth");
+        }
+    }
+
+    #[test]
+    fn light_inside_points_has_no_single_projection() {
+        let pts = [DVec3::new(-1.0, -1.0, -1.0), DVec3::new(1.0, 1.0, 1.0), DVec3::new(1.0, -1.0, 0.0), DVec3::new(-1.0, 1.0, 0.5)];
+        assert!(central_projection(DVec4::new(0.0, 0.0, 0.0, 1.0), &pts, DepthKind::Perspective, DVec3::Z, DVec3::X, None).is_none());
+    }
+
+    #[test]
+    fn warp_is_identity_at_zero_and_keeps_rays() {
+        let m = DMat4::from_cols_array(&[1.0, 2.0, 3.0, 0.0, 0.5, 1.0, 0.0, 0.0, 0.0, 0.3, 1.0, 0.0, 0.1, 0.2, 0.3, 1.0]);
+        assert_eq!(apply_warp(&m, &Warp { epsilon: 0.0, xi_c: 3.0, eta0: 0.0 }), m);
+        let w = apply_warp(&m, &Warp { epsilon: 0.5, xi_c: 1.0, eta0: -2.0 });
+        // Rows x, y, w of the warped map are combinations of the originals.
+        let l = DVec4::new(0.2, -0.4, 1.0, 0.0); // some vector
+        let _ = w * l;
+        assert!(w.is_finite());
+    }
+
+    #[test]
+    fn crop_handles_point_bodies() {
+        let pts = [DVec3::new(5.0, 5.0, 5.0)];
+        let c = central_projection(DVec4::new(0.0, 1.0, 0.0, 0.0), &pts, DepthKind::Polar, DVec3::NEG_Z, DVec3::X, None).unwrap();
+        let m = crop(&c.m, &pts, DVec3::ZERO).unwrap().m;
+        assert!(m.is_finite() && inside(&m, pts[0]));
+    }
+
+    #[test]
+    fn texel_size_of_orthographic_map() {
+        let pts = [DVec3::new(-5.0, 0.0, -5.0), DVec3::new(5.0, 0.0, 5.0), DVec3::new(5.0, 0.0, -5.0), DVec3::new(-5.0, 0.0, 5.0)];
+        let down = DVec4::new(0.0, 1.0, 0.0, 0.0); // light above, travelling −y
+        let c = central_projection(down, &pts, DepthKind::Polar, DVec3::NEG_Z, DVec3::X, None).unwrap();
+        let m = crop(&c.m, &pts, DVec3::ZERO).unwrap().m;
+        let s = texel_size(&m, down, DVec3::ZERO, 100);
+        // 10 world units over 100 texels, plus the rounding margin.
+        assert!((s - 0.1).abs() < 1e-5, "{s}");
+    }
+}

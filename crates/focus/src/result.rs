@@ -1,0 +1,326 @@
+//! What a fit returns: per map the matrices an engine uploads, and a plan
+//! saying what the frame skipped and where it fell back.
+
+use crate::settings::Method;
+use crate::{MAX_MAPS, MAX_SPLITS};
+use glam::{DMat4, Mat4};
+use shadowfocus_geom::{Body, Light};
+
+/// The depth comparison a map must be rendered and sampled with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum DepthTest {
+    /// Keep the smallest depth (the caster nearest the light).
+    Less,
+    /// Keep the largest depth: the map's depth decreases toward the light,
+    /// as for PSM's inverted lights (behind the camera).
+    Greater,
+}
+
+impl DepthTest {
+    pub fn name(self) -> &'static str {
+        match self {
+            DepthTest::Less => "less",
+            DepthTest::Greater => "greater",
+        }
+    }
+}
+
+/// Whether a map has anything to render.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MapState {
+    /// The map covers its (non-empty) body.
+    Active,
+    /// The body is empty: nothing can shadow this split. The matrix is the
+    /// zero matrix (every vertex lands at `w = 0` and is clipped), texel
+    /// sizes are infinite; render nothing.
+    Empty,
+}
+
+/// One face of an omnidirectional point light's cube.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum CubeFace {
+    PosX,
+    NegX,
+    PosY,
+    NegY,
+    PosZ,
+    NegZ,
+}
+
+impl CubeFace {
+    pub const ALL: [CubeFace; 6] = [CubeFace::PosX, CubeFace::NegX, CubeFace::PosY, CubeFace::NegY, CubeFace::PosZ, CubeFace::NegZ];
+
+    /// The direction the face looks along and its up vector.
+    pub fn axes(self) -> (glam::DVec3, glam::DVec3) {
+        use glam::DVec3 as V;
+        match self {
+            CubeFace::PosX => (V::X, V::NEG_Y),
+            CubeFace::NegX => (V::NEG_X, V::NEG_Y),
+            CubeFace::PosY => (V::Y, V::Z),
+            CubeFace::NegY => (V::NEG_Y, V::NEG_Z),
+            CubeFace::PosZ => (V::Z, V::NEG_Y),
+            CubeFace::NegZ => (V::NEG_Z, V::NEG_Y),
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        ["+x", "-x", "+y", "-y", "+z", "-z"][self as usize]
+    }
+}
+
+/// One shadow map.
+///
+/// `matrix` maps world points to the shadow map's clip space in the
+/// wgpu/D3D/Vulkan convention: after the divide by `w`, `x, y ∈ [−1, 1]`
+/// (`+y` up in the map) and depth `z ∈ [0, 1]`. Every vertex of `body` lies
+/// in the clip volume `w > 0, −w ≤ x, y ≤ w, 0 ≤ z ≤ w`. `matrix_f32` is
+/// `matrix · translate(f32_origin)` in f32: applied in f32 arithmetic to a
+/// vertex's position relative to [`crate::FocusSettings::f32_origin`],
+/// rounded to f32, it keeps the vertex inside too — whenever `f32_exact`
+/// is true (false only when f32 cannot resolve the body at that distance
+/// from the origin; then rebase). Columns are glam's (column-major) order.
+#[derive(Clone, Debug)]
+pub struct ShadowMap {
+    pub state: MapState,
+    /// Index of the split this map serves.
+    pub split: usize,
+    /// The cube face, for omnidirectional point lights.
+    pub face: Option<CubeFace>,
+    /// The split's view-depth range `[z0, z1]` along the camera's forward axis.
+    pub split_range: [f64; 2],
+    pub matrix: DMat4,
+    pub matrix_f32: Mat4,
+    /// Whether the f32 guarantee above holds.
+    pub f32_exact: bool,
+    pub depth_test: DepthTest,
+    /// World size of one texel (square root of its footprint area on the
+    /// plane perpendicular to the light ray) on the camera axis at `z0` and
+    /// `z1`; infinite where the map does not see that point.
+    pub texel_size: [f64; 2],
+    /// The method that produced the matrix (PSM may fall back to uniform).
+    pub method: Method,
+    /// Distance (in the map's image units) from the warp's projection centre
+    /// to the body's near end: LiSPSM's `n_opt`, TSM's η; infinite when the
+    /// map has no warp.
+    pub warp_near: f64,
+    /// PSM's virtual camera shift along −forward (0 when none was needed).
+    pub psm_shift: f64,
+    /// The light this map projects from (a cube face's 90° spot for
+    /// omnidirectional lights).
+    pub light: Light,
+    /// The focus body `H` (computed for this map, possibly stale when
+    /// `body_valid` is false).
+    pub(crate) body: Body,
+    pub(crate) body_valid: bool,
+    /// Bit 0: warp vanished; 1: PSM fell back; 2: stable ignored.
+    pub(crate) flags: u8,
+}
+
+impl ShadowMap {
+    pub(crate) fn new() -> ShadowMap {
+        ShadowMap {
+            state: MapState::Empty,
+            split: 0,
+            face: None,
+            split_range: [0.0; 2],
+            matrix: DMat4::ZERO,
+            matrix_f32: Mat4::ZERO,
+            f32_exact: true,
+            depth_test: DepthTest::Less,
+            texel_size: [f64::INFINITY; 2],
+            method: Method::Uniform,
+            warp_near: f64::INFINITY,
+            psm_shift: 0.0,
+            light: Light::Directional { direction: glam::DVec3::NEG_Y },
+            body: Body::new(),
+            body_valid: false,
+            flags: 0,
+        }
+    }
+
+    /// The focus body `H` this map covers (empty for maps whose split or
+    /// face has no depth range at all).
+    pub fn body(&self) -> &Body {
+        if self.body_valid {
+            &self.body
+        } else {
+            empty_body()
+        }
+    }
+
+    pub(crate) fn set_empty(&mut self) {
+        self.state = MapState::Empty;
+        self.f32_exact = true;
+        self.matrix = DMat4::ZERO;
+        self.matrix_f32 = Mat4::ZERO;
+        self.depth_test = DepthTest::Less;
+        self.texel_size = [f64::INFINITY; 2];
+        self.warp_near = f64::INFINITY;
+        self.psm_shift = 0.0;
+    }
+
+    pub fn is_active(&self) -> bool {
+        self.state == MapState::Active
+    }
+}
+
+fn empty_body() -> &'static Body {
+    static EMPTY: std::sync::OnceLock<Body> = std::sync::OnceLock::new();
+    EMPTY.get_or_init(Body::new)
+}
+
+macro_rules! flags {
+    ($(#[$m:meta])* $name:ident { $($(#[$fm:meta])* $flag:ident = $bit:expr, $label:expr;)* }) => {
+        $(#[$m])*
+        #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+        pub struct $name(pub u32);
+        impl $name {
+            $($(#[$fm])* pub const $flag: $name = $name(1 << $bit);)*
+            const ALL: &'static [($name, &'static str)] = &[$(($name::$flag, $label)),*];
+            pub fn contains(self, f: $name) -> bool { self.0 & f.0 == f.0 }
+            pub fn insert(&mut self, f: $name) { self.0 |= f.0; }
+            pub fn remove(&mut self, f: $name) { self.0 &= !f.0; }
+            pub fn is_empty(self) -> bool { self.0 == 0 }
+            /// Names of the set flags, for reports.
+            pub fn names(self) -> impl Iterator<Item = &'static str> {
+                Self::ALL.iter().filter(move |(f, _)| self.contains(*f)).map(|(_, n)| *n)
+            }
+        }
+    };
+}
+
+flags! {
+    /// Work the frame did not need and did not do.
+    Skipped {
+        /// No clip by the light frustum `L` (directional or point light).
+        LIGHT_CLIP = 0, "light_clip";
+        /// No clip by the scene box: `hull(V ∪ l) ⊆ S` (V and l inside S).
+        SCENE_CLIP = 1, "scene_clip";
+        /// PSM: `H` lay beyond the near plane in every map, no virtual shift.
+        PSM_SHIFT = 2, "psm_shift";
+        /// Some splits (or cube faces) have an empty `H`: no map rendered.
+        EMPTY_MAPS = 3, "empty_maps";
+        /// LiSPSM/TSM: the warp vanished in some map (γ = 0, or TSM's focus
+        /// beyond the 80 % line), which is then exactly the uniform map.
+        WARP = 4, "warp";
+    }
+}
+
+flags! {
+    /// Where the fit departed from the requested method, and why.
+    Notes {
+        /// PSM could not put the transformed light outside `H` (a point
+        /// light inside the scene): those maps are uniform.
+        PSM_FELL_BACK = 0, "psm_fell_back_to_uniform";
+        /// A point light inside the view frustum cannot be seen by one
+        /// perspective map: six cube faces were used.
+        POINT_AS_CUBE = 1, "point_light_as_cube";
+        /// A point light within `light_near` of the scene box: casters that
+        /// close to the light are not mapped (a perspective map cannot
+        /// contain its own centre).
+        LIGHT_NEAR = 2, "light_near_truncated";
+        /// Some map uses the reversed (greater) depth test.
+        INVERTED = 3, "inverted_light";
+        /// `stable` was requested where it does not apply (non-directional
+        /// light or non-uniform method) and was ignored.
+        STABLE_IGNORED = 4, "stable_ignored";
+        /// Some map's f32 matrix cannot keep its body inside the clip volume:
+        /// the positions' f32 rounding (relative to `f32_origin`) is
+        /// comparable to the body. The f64 matrix is still exact; rebase.
+        F32_IMPRECISE = 5, "f32_imprecise";
+    }
+}
+
+/// The result of [`crate::fit`]: allocated once, refilled every frame.
+pub struct FocusResult {
+    maps: Box<[ShadowMap]>,
+    len: usize,
+    split_depths: [f64; MAX_SPLITS + 1],
+    split_clip: [f64; MAX_SPLITS + 1],
+    splits: usize,
+    pub skipped: Skipped,
+    pub notes: Notes,
+}
+
+impl Default for FocusResult {
+    fn default() -> Self {
+        FocusResult::new()
+    }
+}
+
+impl std::fmt::Debug for FocusResult {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("FocusResult")
+            .field("maps", &self.maps())
+            .field("split_depths", &self.split_depths())
+            .field("skipped", &self.skipped)
+            .field("notes", &self.notes)
+            .finish()
+    }
+}
+
+impl FocusResult {
+    /// Room for `MAX_MAPS` maps (8 splits × 6 cube faces). Allocates once.
+    pub fn new() -> FocusResult {
+        FocusResult {
+            maps: (0..MAX_MAPS).map(|_| ShadowMap::new()).collect(),
+            len: 0,
+            split_depths: [0.0; MAX_SPLITS + 1],
+            split_clip: [0.0; MAX_SPLITS + 1],
+            splits: 0,
+            skipped: Skipped::default(),
+            notes: Notes::default(),
+        }
+    }
+
+    /// The maps of the last fit, in split order (cube faces within a split
+    /// in [`CubeFace::ALL`] order). Empty maps are included, marked
+    /// [`MapState::Empty`].
+    pub fn maps(&self) -> &[ShadowMap] {
+        &self.maps[..self.len]
+    }
+
+    /// Split plane depths `C_0 = near, …, C_m = far` along the camera's
+    /// forward axis.
+    pub fn split_depths(&self) -> &[f64] {
+        &self.split_depths[..=self.splits]
+    }
+
+    /// The same planes as clip-space depths of the camera projection
+    /// (right-handed, z ∈ [0, 1], as glam's `perspective_rh`): PSSM eq. 8. A fragment
+    /// with clip depth in `[clip[i], clip[i + 1]]` samples split `i`.
+    pub fn split_clip_depths(&self) -> &[f64] {
+        &self.split_clip[..=self.splits]
+    }
+
+    pub fn split_count(&self) -> usize {
+        self.splits
+    }
+
+    pub(crate) fn clear(&mut self) {
+        self.len = 0;
+        self.splits = 0;
+        self.skipped = Skipped::default();
+        self.notes = Notes::default();
+    }
+
+    pub(crate) fn set_splits(&mut self, depths: &[f64; MAX_SPLITS + 1], m: usize) {
+        self.splits = m;
+        self.split_depths = *depths;
+        for i in 0..=m {
+            self.split_clip[i] = crate::splits::clip_depth(depths[0], depths[m], depths[i]);
+        }
+    }
+
+    pub(crate) fn push(&mut self) -> Option<&mut ShadowMap> {
+        if self.len >= self.maps.len() {
+            return None;
+        }
+        self.len += 1;
+        Some(&mut self.maps[self.len - 1])
+    }
+
+    pub(crate) fn pop(&mut self) {
+        self.len -= 1;
+    }
+}

@@ -1,0 +1,203 @@
+//! What to fit: method, splits, resolution and per-method parameters.
+
+use crate::error::FocusError;
+use crate::MAX_SPLITS;
+
+/// The shadow-map parameterisation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Method {
+    /// Focused standard map: orthographic (directional) or perspective from
+    /// the light, fitted tightly to `H`.
+    Uniform,
+    /// Perspective shadow map: a uniform map fitted in the camera's
+    /// post-perspective space.
+    Psm,
+    /// Light-space perspective shadow map (extra perspective along the view
+    /// direction projected into the light's image plane).
+    Lispsm,
+    /// Trapezoidal shadow map (trapezoid around the light-space hull, with the
+    /// focus point on the 80 % line).
+    Tsm,
+}
+
+impl Method {
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Uniform => "uniform",
+            Method::Psm => "psm",
+            Method::Lispsm => "lispsm",
+            Method::Tsm => "tsm",
+        }
+    }
+}
+
+/// How the view depth range is cut into parallel splits (PSSM §3.3).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SplitScheme {
+    /// `C_i = n + (f − n) i/m` (eq. 5).
+    Uniform,
+    /// `C_i = n (f/n)^(i/m)` (eq. 4).
+    Log,
+    /// `C_i = λ C_i^log + (1 − λ) C_i^uniform` — eq. 6 is λ = ½.
+    Practical { lambda: f64 },
+}
+
+/// Parallel splits of the view frustum.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SplitSettings {
+    /// Number of splits, `1..=MAX_SPLITS`; 1 is a single map.
+    pub count: usize,
+    pub scheme: SplitScheme,
+    /// Non-negative shift of the inner split planes (δ_bias of eq. 7); the
+    /// outer planes stay at the camera's near and far.
+    pub delta_bias: f64,
+}
+
+impl Default for SplitSettings {
+    fn default() -> Self {
+        SplitSettings { count: 1, scheme: SplitScheme::Practical { lambda: 0.5 }, delta_bias: 0.0 }
+    }
+}
+
+/// Which vector orients the LiSPSM warp.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WarpDirection {
+    /// The view direction projected perpendicular to the light.
+    ViewProjected,
+    /// The "middle vector": eye → centroid of `H`, projected likewise.
+    MiddleVector,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LispsmSettings {
+    /// A visible far distance (e.g. from occlusion culling). Only tightens
+    /// `Δz` in `n_opt`; `H` is still computed from the full view frustum.
+    pub visible_far: Option<f64>,
+    pub warp: WarpDirection,
+}
+
+impl Default for LispsmSettings {
+    fn default() -> Self {
+        LispsmSettings { visible_far: None, warp: WarpDirection::ViewProjected }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct PsmSettings {
+    /// A tightened near distance (minimum visible depth read back by the
+    /// engine). PSM then fits to the view frustum `[near, far]` with this
+    /// near: every visible receiver lies in it, and every caster that can
+    /// shadow one lies on a segment from it to the light, so `H` computed
+    /// from the tightened frustum is still conservative for what is seen.
+    pub near: Option<f64>,
+    /// A tightened far distance, same contract.
+    pub far: Option<f64>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TsmSettings {
+    /// Distance δ of the focus point beyond the near plane, as a fraction of
+    /// the split's depth range; the focus point is mapped to the 80 % line.
+    pub focus: f64,
+}
+
+impl Default for TsmSettings {
+    fn default() -> Self {
+        TsmSettings { focus: 0.25 }
+    }
+}
+
+/// How a point light is covered.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PointMode {
+    /// One perspective map from the light toward the view; six cube faces
+    /// when the light lies in the view frustum (no single map can see it).
+    Single,
+    /// Six cube faces, each focused on its part of `H`.
+    Cube,
+}
+
+/// Everything a fit needs besides camera, light and scene.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FocusSettings {
+    pub method: Method,
+    pub splits: SplitSettings,
+    /// Shadow-map resolution in texels (square maps), ≥ 4.
+    pub resolution: u32,
+    /// Texel-snapped, camera-rotation-invariant fitting (directional lights
+    /// with the uniform method; ignored otherwise, and said so in the plan).
+    pub stable: bool,
+    pub lispsm: LispsmSettings,
+    pub psm: PsmSettings,
+    pub tsm: TsmSettings,
+    pub point: PointMode,
+    /// Distance from a point or spot light below which casters are not
+    /// mapped (the light's own radius); a perspective map cannot contain its
+    /// centre. Must be positive.
+    pub light_near: f64,
+    /// Origin of the positions the f32 matrix is applied to:
+    /// [`crate::ShadowMap::matrix_f32`] maps `p − f32_origin` (rounded to
+    /// f32) and its rounding margins are computed for those magnitudes.
+    /// Zero means world positions; an engine that renders camera-relative
+    /// (large worlds) passes its rebasing origin, e.g. the camera position.
+    pub f32_origin: glam::DVec3,
+}
+
+impl Default for FocusSettings {
+    fn default() -> Self {
+        FocusSettings {
+            method: Method::Uniform,
+            splits: SplitSettings::default(),
+            resolution: 2048,
+            stable: false,
+            lispsm: LispsmSettings::default(),
+            psm: PsmSettings::default(),
+            tsm: TsmSettings::default(),
+            point: PointMode::Single,
+            light_near: 0.05,
+            f32_origin: glam::DVec3::ZERO,
+        }
+    }
+}
+
+impl FocusSettings {
+    /// Checks every parameter against its documented range.
+    pub fn validate(&self) -> Result<(), FocusError> {
+        let bad = |what, reason| Err(FocusError::InvalidSettings { what, reason });
+        if self.splits.count == 0 || self.splits.count > MAX_SPLITS {
+            return bad("splits.count", "must be between 1 and 8");
+        }
+        if !(self.splits.delta_bias.is_finite() && self.splits.delta_bias >= 0.0) {
+            return bad("splits.delta_bias", "must be finite and non-negative");
+        }
+        if let SplitScheme::Practical { lambda } = self.splits.scheme {
+            if !(0.0..=1.0).contains(&lambda) {
+                return bad("splits.lambda", "must lie in [0, 1]");
+            }
+        }
+        if self.resolution < 4 {
+            return bad("resolution", "must be at least 4 texels");
+        }
+        if !(self.light_near.is_finite() && self.light_near > 0.0) {
+            return bad("light_near", "must be finite and positive");
+        }
+        if !self.f32_origin.is_finite() {
+            return bad("f32_origin", "must be finite");
+        }
+        if !(self.tsm.focus.is_finite() && self.tsm.focus > 0.0 && self.tsm.focus <= 1.0) {
+            return bad("tsm.focus", "must lie in (0, 1]");
+        }
+        for (v, what) in [
+            (self.lispsm.visible_far, "lispsm.visible_far"),
+            (self.psm.near, "psm.near"),
+            (self.psm.far, "psm.far"),
+        ] {
+            if let Some(v) = v {
+                if !(v.is_finite() && v > 0.0) {
+                    return bad(what, "must be finite and positive");
+                }
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,334 @@
+//! Method-specific behaviour: PSM's inverted lights and shift, LiSPSM's
+//! n_opt, TSM's 80 % line, stable snapping, empty bodies, errors, culling.
+
+mod common;
+
+use common::*;
+use glam::DVec3;
+use shadowfocus_focus::*;
+use shadowfocus_geom::{Aabb, Camera, Frustum, Light};
+
+fn camera() -> Camera {
+    Camera { eye: DVec3::new(0.0, 2.0, 10.0), forward: DVec3::NEG_Z, up: DVec3::Y, fovy: 1.0, aspect: 1.5, near: 0.5, far: 100.0 }
+}
+
+fn scene() -> Aabb {
+    Aabb::new(DVec3::new(-50.0, 0.0, -100.0), DVec3::new(50.0, 20.0, 20.0)).unwrap()
+}
+
+fn fit1(cam: &Camera, light: &Light, scene: &Aabb, s: &FocusSettings) -> FocusResult {
+    let mut out = FocusResult::new();
+    fit(cam, light, scene, s, &mut out).unwrap();
+    for m in out.maps().iter().filter(|m| m.is_active()) {
+        for p in m.body().vertices() {
+            assert!(inside_f64(&m.matrix, *p) && inside_f32(&m.matrix_f32, *p));
+        }
+    }
+    out
+}
+
+fn psm() -> FocusSettings {
+    FocusSettings { method: Method::Psm, ..Default::default() }
+}
+
+#[test]
+fn psm_directional_from_front_is_a_point_light_without_shift() {
+    let out = fit1(&camera(), &Light::directional(DVec3::new(0.1, -0.3, 1.0)).unwrap(), &scene(), &psm());
+    let m = &out.maps()[0];
+    assert_eq!((m.method, m.depth_test, m.psm_shift), (Method::Psm, DepthTest::Less, 0.0));
+    assert!(out.skipped.contains(Skipped::PSM_SHIFT));
+    assert!(!out.notes.contains(Notes::INVERTED));
+}
+
+#[test]
+fn psm_directional_from_behind_is_inverted_with_minimal_shift() {
+    let cam = camera();
+    let out = fit1(&cam, &Light::directional(DVec3::new(0.1, -0.3, -1.0)).unwrap(), &scene(), &psm());
+    let m = &out.maps()[0];
+    assert_eq!((m.method, m.depth_test), (Method::Psm, DepthTest::Greater));
+    assert!(out.notes.contains(Notes::INVERTED) && !out.skipped.contains(Skipped::PSM_SHIFT));
+    // Minimal: H's nearest point ends exactly at the kept near distance.
+    let zmin = m.body().vertices().iter().map(|p| cam.forward.dot(*p - cam.eye)).fold(f64::INFINITY, f64::min);
+    assert!(m.psm_shift > 0.0);
+    assert!((zmin + m.psm_shift - cam.near).abs() < 1e-12 * 200.0, "{} {}", zmin, m.psm_shift);
+}
+
+#[test]
+fn psm_light_parallel_to_image_plane_stays_directional() {
+    // f·d = 0 exactly: the transformed light is at infinity (w = 0).
+    let out = fit1(&camera(), &Light::directional(DVec3::new(0.3, -1.0, 0.0)).unwrap(), &scene(), &psm());
+    let m = &out.maps()[0];
+    assert_eq!((m.method, m.depth_test, m.psm_shift), (Method::Psm, DepthTest::Less, 0.0));
+}
+
+#[test]
+fn psm_point_lights_in_front_behind_and_in_the_camera_plane() {
+    let cam = camera();
+    let scene = scene();
+    for (l, want) in [
+        (DVec3::new(0.0, 30.0, -150.0), DepthTest::Less),   // in front, outside S
+        (DVec3::new(5.0, 30.0, 40.0), DepthTest::Greater),  // behind the camera plane: inverted
+        (DVec3::new(5.0, 30.0, 10.0), DepthTest::Less),     // in the camera plane: directional
+    ] {
+        let out = fit1(&cam, &Light::point(l).unwrap(), &scene, &psm());
+        assert_eq!(out.maps().len(), 1, "{l}");
+        let m = &out.maps()[0];
+        assert_eq!((m.method, m.depth_test), (Method::Psm, want), "{l}");
+    }
+}
+
+#[test]
+fn psm_tightened_near_is_used() {
+    let cam = camera();
+    let s = FocusSettings { method: Method::Psm, psm: PsmSettings { near: Some(4.0), far: Some(60.0) }, ..Default::default() };
+    let out = fit1(&cam, &Light::directional(DVec3::new(0.1, -0.3, 1.0)).unwrap(), &scene(), &s);
+    assert_eq!(out.split_depths(), &[4.0, 60.0]);
+    let bad = FocusSettings { method: Method::Psm, psm: PsmSettings { near: Some(200.0), far: None }, ..Default::default() };
+    let mut o = FocusResult::new();
+    assert!(matches!(fit(&cam, &Light::directional(DVec3::NEG_Y).unwrap(), &scene(), &bad, &mut o), Err(FocusError::InvalidSettings { .. })));
+}
+
+fn lispsm(visible_far: Option<f64>) -> FocusSettings {
+    FocusSettings { method: Method::Lispsm, lispsm: LispsmSettings { visible_far, warp: WarpDirection::ViewProjected }, ..Default::default() }
+}
+
+#[test]
+fn lispsm_n_opt_matches_the_formula() {
+    // Light straight down, view horizontal: γ = 90°, the warp axis is the
+    // view direction, image units are world units.
+    let cam = Camera { eye: DVec3::new(0.0, 5.0, 0.0), ..camera() };
+    let scene = Aabb::new(DVec3::new(-30.0, 0.0, -80.0), DVec3::new(30.0, 10.0, 5.0)).unwrap();
+    let sun = Light::directional(DVec3::NEG_Y).unwrap();
+    for vf in [None, Some(20.0)] {
+        let out = fit1(&cam, &sun, &scene, &lispsm(vf));
+        let m = &out.maps()[0];
+        let depth = |p: &DVec3| cam.forward.dot(*p - cam.eye);
+        let v = m.body().vertices();
+        let (zmin, zmax) = v.iter().map(depth).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), z| (a.min(z), b.max(z)));
+        let z0 = zmin.max(cam.near);
+        let mut dz = zmax - zmin;
+        if let Some(vf) = vf {
+            dz = dz.min(vf - cam.near);
+        }
+        let n_opt = cam.near + (z0 * (z0 + dz)).sqrt();
+        assert!((m.warp_near - n_opt).abs() < 1e-9 * n_opt, "{vf:?}: {} vs {n_opt}", m.warp_near);
+    }
+}
+
+#[test]
+fn lispsm_fades_into_uniform_as_gamma_vanishes() {
+    let cam = camera();
+    let scene = scene();
+    let mut last = 0.0;
+    for k in (0..6).rev() {
+        let a = 0.2 * 0.3f64.powi(5 - k) * (k as f64 + 1.0) / 6.0;
+        let d = DVec3::new(0.0, -a.sin(), -a.cos());
+        let out = fit1(&cam, &Light::directional(d).unwrap(), &scene, &lispsm(None));
+        let n = out.maps()[0].warp_near;
+        assert!(n.is_finite() && n > last, "n_opt must grow as γ shrinks: {n} after {last}");
+        last = n;
+    }
+    // γ = 0 exactly: no warp, and exactly the uniform map.
+    let sun = Light::directional(cam.forward).unwrap();
+    let l = fit1(&cam, &sun, &scene, &lispsm(None));
+    let u = fit1(&cam, &sun, &scene, &FocusSettings::default());
+    assert!(l.skipped.contains(Skipped::WARP) && l.maps()[0].warp_near == f64::INFINITY);
+    let (a, b) = (l.maps()[0].matrix, u.maps()[0].matrix);
+    assert!(a.abs_diff_eq(b, 1e-12 * b.to_cols_array().iter().fold(0.0f64, |m, x| m.max(x.abs()))), "{a} vs {b}");
+}
+
+#[test]
+fn lispsm_middle_vector_differs_but_is_valid() {
+    let cam = camera();
+    let sun = Light::directional(DVec3::new(0.5, -1.0, 0.3)).unwrap();
+    let s = FocusSettings { method: Method::Lispsm, lispsm: LispsmSettings { visible_far: None, warp: WarpDirection::MiddleVector }, ..Default::default() };
+    let a = fit1(&cam, &sun, &scene(), &s);
+    let b = fit1(&cam, &sun, &scene(), &lispsm(None));
+    assert!(a.maps()[0].warp_near.is_finite());
+    assert!(!a.maps()[0].matrix.abs_diff_eq(b.maps()[0].matrix, 1e-6));
+}
+
+#[test]
+fn tsm_puts_the_focus_point_on_the_80_percent_line() {
+    let cam = Camera { eye: DVec3::new(0.0, 5.0, 0.0), ..camera() };
+    let scene = Aabb::new(DVec3::new(-30.0, 0.0, -80.0), DVec3::new(30.0, 10.0, 5.0)).unwrap();
+    for (d, focus) in [(DVec3::NEG_Y, 0.25), (DVec3::new(0.3, -1.0, 0.4), 0.1), (DVec3::new(-0.2, -1.0, -0.3), 0.4)] {
+        let s = FocusSettings { method: Method::Tsm, tsm: TsmSettings { focus }, ..Default::default() };
+        let out = fit1(&cam, &Light::directional(d).unwrap(), &scene, &s);
+        let m = &out.maps()[0];
+        assert!(m.warp_near.is_finite(), "{d}: no warp");
+        let p = cam.eye + cam.forward * (cam.near + focus * (cam.far - cam.near));
+        let q = m.matrix * p.extend(1.0);
+        assert!((q.y / q.w - 0.6).abs() < 1e-5, "{d}: focus point at y = {}", q.y / q.w);
+    }
+}
+
+#[test]
+fn stable_maps_snap_to_texels_and_ignore_rotation() {
+    let s = FocusSettings { stable: true, resolution: 1024, splits: SplitSettings { count: 3, ..Default::default() }, ..Default::default() };
+    let sun = Light::directional(DVec3::new(0.3, -1.0, 0.45)).unwrap();
+    let scene = Aabb::new(DVec3::new(-500.0, -50.0, -500.0), DVec3::new(500.0, 50.0, 500.0)).unwrap();
+    let base = camera();
+    let a = fit1(&base, &sun, &scene, &s);
+    let yaw = 0.7f64;
+    for cam in [
+        Camera { eye: base.eye + DVec3::new(0.37, 0.11, -2.3), ..base },
+        Camera { eye: base.eye + DVec3::new(-13.01, 0.5, 7.77), forward: DVec3::new(yaw.sin(), -0.2, -yaw.cos()), ..base },
+    ] {
+        let b = fit1(&cam, &sun, &scene, &s);
+        for (ma, mb) in a.maps().iter().zip(b.maps()) {
+            // Same extent (texel size) bit for bit …
+            assert_eq!(ma.matrix.row(0).truncate(), mb.matrix.row(0).truncate());
+            assert_eq!(ma.matrix.row(1).truncate(), mb.matrix.row(1).truncate());
+            // … and the origin moved by whole texels.
+            for r in 0..2 {
+                let shift = (ma.matrix.row(r).w - mb.matrix.row(r).w) * s.resolution as f64 / 2.0;
+                assert!((shift - shift.round()).abs() < 1e-6, "row {r}: shift {shift} texels");
+            }
+        }
+    }
+    // Not applicable to PSM: ignored, and said so.
+    let out = fit1(&base, &sun, &scene, &FocusSettings { method: Method::Psm, ..s });
+    assert!(out.notes.contains(Notes::STABLE_IGNORED));
+}
+
+#[test]
+fn empty_body_gives_an_explicit_empty_map() {
+    // Scene behind the camera, light travelling from the front toward the
+    // camera: the view swept toward the light never reaches the scene.
+    let scene = Aabb::new(DVec3::new(-5.0, -5.0, 20.0), DVec3::new(5.0, 5.0, 30.0)).unwrap();
+    for method in [Method::Uniform, Method::Psm, Method::Lispsm, Method::Tsm] {
+        let s = FocusSettings { method, splits: SplitSettings { count: 2, ..Default::default() }, ..Default::default() };
+        let out = fit1(&camera(), &Light::directional(DVec3::new(0.0, 0.0, 1.0)).unwrap(), &scene, &s);
+        assert_eq!(out.maps().len(), 2);
+        for m in out.maps() {
+            assert_eq!(m.state, MapState::Empty);
+            assert_eq!(m.matrix, glam::DMat4::ZERO);
+            assert!(m.texel_size.iter().all(|t| *t == f64::INFINITY));
+            assert!(m.body().is_empty());
+        }
+        assert!(out.skipped.contains(Skipped::EMPTY_MAPS));
+    }
+}
+
+#[test]
+fn invalid_input_is_a_typed_error() {
+    let good = camera();
+    let scene = scene();
+    let sun = Light::Directional { direction: DVec3::NEG_Y };
+    let s = FocusSettings::default();
+    let mut out = FocusResult::new();
+    let cams = [
+        Camera { eye: DVec3::new(f64::NAN, 0.0, 0.0), ..good },
+        Camera { forward: DVec3::ZERO, ..good },
+        Camera { near: 5.0, far: 5.0, ..good },
+        Camera { fovy: 3.2, ..good },
+        Camera { up: DVec3::NEG_Z, ..good },
+    ];
+    for c in cams {
+        assert!(matches!(fit(&c, &sun, &scene, &s, &mut out), Err(FocusError::Geom(_))), "{c:?}");
+    }
+    for l in [Light::Directional { direction: DVec3::ZERO }, Light::Point { position: DVec3::new(0.0, f64::INFINITY, 0.0) }] {
+        assert!(matches!(fit(&good, &l, &scene, &s, &mut out), Err(FocusError::Geom(_))));
+    }
+    let inverted = Aabb { min: DVec3::ONE, max: DVec3::ZERO };
+    assert!(matches!(fit(&good, &sun, &inverted, &s, &mut out), Err(FocusError::Geom(_))));
+    for bad in [
+        FocusSettings { splits: SplitSettings { count: 0, ..Default::default() }, ..s },
+        FocusSettings { splits: SplitSettings { count: MAX_SPLITS + 1, ..Default::default() }, ..s },
+        FocusSettings { splits: SplitSettings { scheme: SplitScheme::Practical { lambda: 1.5 }, ..Default::default() }, ..s },
+        FocusSettings { splits: SplitSettings { delta_bias: f64::NAN, ..Default::default() }, ..s },
+        FocusSettings { resolution: 2, ..s },
+        FocusSettings { light_near: 0.0, ..s },
+        FocusSettings { lispsm: LispsmSettings { visible_far: Some(-1.0), ..Default::default() }, ..s },
+        FocusSettings { tsm: TsmSettings { focus: 0.0 }, ..s },
+    ] {
+        assert!(matches!(fit(&good, &sun, &scene, &bad, &mut out), Err(FocusError::InvalidSettings { .. })), "{bad:?}");
+    }
+    assert!(out.maps().is_empty());
+}
+
+#[test]
+fn point_light_modes() {
+    let cam = camera();
+    let scene = scene();
+    // Outside the view, inside the scene: one truncated map.
+    let l = DVec3::new(30.0, 15.0, 15.0);
+    let out = fit1(&cam, &Light::point(l).unwrap(), &scene, &FocusSettings::default());
+    assert_eq!(out.maps().len(), 1);
+    assert!(matches!(out.maps()[0].light, Light::Spot { .. }) && out.notes.contains(Notes::LIGHT_NEAR));
+    // Inside the view frustum: six faces.
+    let l = DVec3::new(0.0, 2.0, -20.0);
+    let out = fit1(&cam, &Light::point(l).unwrap(), &scene, &FocusSettings::default());
+    assert_eq!(out.maps().len(), 6);
+    assert!(out.notes.contains(Notes::POINT_AS_CUBE));
+    // Outside the scene: no truncation.
+    let l = DVec3::new(0.0, 60.0, -20.0);
+    let out = fit1(&cam, &Light::point(l).unwrap(), &scene, &FocusSettings::default());
+    assert_eq!(out.maps().len(), 1);
+    assert!(matches!(out.maps()[0].light, Light::Point { .. }) && !out.notes.contains(Notes::LIGHT_NEAR));
+}
+
+#[test]
+fn culling_drops_far_casters_and_keeps_shadowing_ones() {
+    let cam = camera();
+    let scene = Aabb::new(DVec3::new(-200.0, 0.0, -200.0), DVec3::new(200.0, 20.0, 200.0)).unwrap();
+    let mut casters = Vec::new();
+    for i in -20..20 {
+        for j in -20..20 {
+            let c = DVec3::new(i as f64 * 10.0 + 5.0, 0.0, j as f64 * 10.0 + 5.0);
+            casters.push(Aabb::new(c - DVec3::new(1.0, 0.0, 1.0), c + DVec3::new(1.0, 4.0, 1.0)).unwrap());
+        }
+    }
+    for light in [Light::directional(DVec3::new(0.4, -1.0, 0.3)).unwrap(), Light::point(DVec3::new(20.0, 18.0, -30.0)).unwrap()] {
+        for count in [1, 4] {
+            let s = FocusSettings { splits: SplitSettings { count, ..Default::default() }, ..Default::default() };
+            let out = fit1(&cam, &light, &scene, &s);
+            let mut idx = vec![0u32; casters.len()];
+            let mut kept_total = 0;
+            for m in out.maps().iter().filter(|m| m.is_active()) {
+                let n = cull_casters(m, &casters, &mut idx);
+                kept_total += n;
+                // Every caster meeting H (a vertex inside the box, or the box
+                // holding a body point) is kept.
+                for (k, b) in casters.iter().enumerate() {
+                    if body_points(m.body(), 20, k as u64 + 1).iter().any(|p| b.contains(*p)) {
+                        assert!(idx[..n].contains(&(k as u32)), "caster {k} meets H but was culled");
+                    }
+                }
+            }
+            let maps = out.maps().iter().filter(|m| m.is_active()).count();
+            eprintln!("{:?} splits {count}: {} of {} caster-map pairs kept", light_kind(&light), kept_total, maps * casters.len());
+            assert!(kept_total < maps * casters.len() / 2, "culling kept {kept_total}");
+            assert!(kept_total > 0);
+        }
+    }
+}
+
+fn light_kind(l: &Light) -> &'static str {
+    match l {
+        Light::Directional { .. } => "directional",
+        Light::Point { .. } => "point",
+        Light::Spot { .. } => "spot",
+    }
+}
+
+#[test]
+fn corners_form_reproduces_the_camera_fit() {
+    let cam = Camera { eye: DVec3::new(1.5, 3.0, 7.0), forward: DVec3::new(0.2, -0.3, -1.0), up: DVec3::Y, fovy: 0.8, aspect: 1.3, near: 0.4, far: 90.0 };
+    let rec = camera_from_corners(&cam.corners().unwrap()).unwrap();
+    assert!(rec.residual < 1e-12);
+    let sun = Light::directional(DVec3::new(0.4, -1.0, 0.2)).unwrap();
+    let s = FocusSettings { method: Method::Lispsm, splits: SplitSettings { count: 3, ..Default::default() }, ..Default::default() };
+    let (a, b) = (fit1(&cam, &sun, &scene(), &s), fit1(&rec.camera, &sun, &scene(), &s));
+    for (x, y) in a.split_depths().iter().zip(b.split_depths()) {
+        assert!((x - y).abs() < 1e-9 * y.abs());
+    }
+    for (x, y) in a.maps().iter().zip(b.maps()) {
+        assert!(x.matrix.abs_diff_eq(y.matrix, 1e-6), "{} vs {}", x.matrix, y.matrix);
+    }
+    // A spot light whose frustum is the view itself: L ⊇ V.
+    let spot = Light::spot(cam.eye + DVec3::new(0.0, 0.0, 0.0), Frustum::from_camera(&Camera { near: 0.1, far: 200.0, fovy: 1.2, ..cam }).unwrap()).unwrap();
+    let out = fit1(&cam, &spot, &scene(), &FocusSettings::default());
+    assert!(out.maps().iter().all(|m| m.is_active()));
+}

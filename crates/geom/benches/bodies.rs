@@ -1,0 +1,105 @@
+//! Focus-body throughput on the committed fixture cases, per light kind and
+//! mixed, with and without frustum validation, and the epsilon-based hull
+//! of just the nine points (what engines typically use) for comparison.
+//!
+//! `cargo bench -p shadowfocus-geom --bench bodies`
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use glam::DVec3;
+use serde_json::Value;
+use shadowfocus_geom::{focus_body_into, Aabb, Body, Frustum, Light};
+use std::hint::black_box;
+use std::path::Path;
+
+struct Case {
+    corners: [DVec3; 8],
+    view: Frustum,
+    light: Light,
+    scene: Aabb,
+}
+
+fn v3(v: &Value) -> DVec3 {
+    DVec3::new(v[0].as_f64().unwrap(), v[1].as_f64().unwrap(), v[2].as_f64().unwrap())
+}
+
+fn corners(v: &Value) -> [DVec3; 8] {
+    let a = v.as_array().unwrap();
+    std::array::from_fn(|i| v3(&a[i]))
+}
+
+/// Reads the corners-form fixture cases of one file (all of them are).
+fn load(name: &str) -> Vec<Case> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/cases").join(format!("{name}.jsonl"));
+    let text = std::fs::read_to_string(path).unwrap();
+    text.lines()
+        .filter_map(|line| {
+            let j: Value = serde_json::from_str(line).ok()?;
+            let c = corners(&j["view"]["corners"]);
+            let l = &j["light"];
+            let light = if let Some(d) = l.get("directional") {
+                Light::directional(v3(d)).ok()?
+            } else if let Some(p) = l.get("point") {
+                Light::point(v3(p)).ok()?
+            } else {
+                let s = &l["spot"];
+                Light::spot(v3(&s["position"]), Frustum::from_corners(corners(&s["corners"])).ok()?).ok()?
+            };
+            let scene = Aabb::new(v3(&j["scene"]["min"]), v3(&j["scene"]["max"])).ok()?;
+            Some(Case { corners: c, view: Frustum::from_corners(c).ok()?, light, scene })
+        })
+        .collect()
+}
+
+fn bench(c: &mut Criterion) {
+    let sets = ["directional", "point", "spot", "scene", "extreme"].map(|n| (n, load(n)));
+    let mut group = c.benchmark_group("focus_body");
+    group.sample_size(20).measurement_time(std::time::Duration::from_secs(3));
+    let mut body = Body::new();
+    for (name, cases) in &sets {
+        group.throughput(Throughput::Elements(cases.len() as u64));
+        group.bench_function(*name, |b| {
+            b.iter(|| {
+                for case in cases {
+                    let _ = focus_body_into(&mut body, &case.view, &case.light, &case.scene);
+                }
+            })
+        });
+    }
+    let mixed: Vec<&Case> = sets.iter().flat_map(|(_, c)| c.iter()).collect();
+    group.throughput(Throughput::Elements(mixed.len() as u64));
+    group.bench_function("mixed_with_frustum_validation", |b| {
+        b.iter(|| {
+            for case in &mixed {
+                if let Ok(view) = Frustum::from_corners(black_box(case.corners)) {
+                    let _ = focus_body_into(&mut body, &view, &case.light, &case.scene);
+                }
+            }
+        })
+    });
+    group.bench_function("frustum_validation_only", |b| {
+        b.iter(|| {
+            for case in &mixed {
+                let _ = black_box(Frustum::from_corners(black_box(case.corners)));
+            }
+        })
+    });
+    // The usual engine approach for comparison: parry's epsilon-based hull
+    // of the 8 corners and the light (point lights only; no clipping).
+    let points = &sets[1].1;
+    group.throughput(Throughput::Elements(points.len() as u64));
+    group.bench_function("parry_convex_hull_of_9_points", |b| {
+        b.iter(|| {
+            for case in points {
+                if let Light::Point { position } = case.light {
+                    let mut pts = case.corners.to_vec();
+                    pts.push(position);
+                    let _ = black_box(parry3d_f64::transformation::try_convex_hull(&pts));
+                }
+            }
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
