@@ -66,6 +66,9 @@ impl Camera {
         if !(f_len > 0.0) || !f_len.is_finite() {
             return Err(GeomError::ZeroDirection { what: "camera forward" });
         }
+        if exactly_parallel(self.forward, self.up) {
+            return Err(GeomError::InvalidCamera { reason: "up is zero or parallel to forward" });
+        }
         let forward = self.forward / f_len;
         let side = forward.cross(self.up);
         let s_len = side.length();
@@ -96,4 +99,14 @@ impl Camera {
         }
         Ok(out)
     }
+}
+
+/// Whether `a × b = 0` exactly (each component's sign decided exactly).
+fn exactly_parallel(a: DVec3, b: DVec3) -> bool {
+    use crate::number::{cross, lift, Exact, Filtered};
+    let f = cross(&lift::<Filtered>(a), &lift::<Filtered>(b));
+    if f.iter().any(|c| matches!(c.sign(), Some(s) if s != 0)) {
+        return false;
+    }
+    cross(&lift::<Exact>(a), &lift::<Exact>(b)).iter().all(|c| c.sign() == 0)
 }

@@ -102,15 +102,37 @@ impl Plane {
     }
 
     /// Rounded unit normal and offset (`xyz·p + w ≤ 0` inside), for output.
+    ///
+    /// NOTE: a plane through three nearly collinear points (a frustum edge
+    /// and a light at its apex) has a normal that cancels almost completely
+    /// in floating point. The filtered coefficients are used only when their
+    /// proven error is below 2^-40 of the normal's length; otherwise the
+    /// exact coefficients are scaled exactly by one of their non-zero
+    /// components before rounding, so the direction is right to an ulp.
     pub fn approximate(&self) -> DVec4 {
         let [a, b, c, d] = self.coefficients::<crate::number::Filtered>();
         let n = DVec3::new(a.v, b.v, c.v);
         let len = n.length();
-        if len > 0.0 && len.is_finite() {
-            (n / len).extend(d.v / len)
-        } else {
-            DVec4::ZERO
+        let err = a.e + b.e + c.e;
+        let scale = len.max(d.v.abs() / (1.0 + self.magnitude()));
+        if len > 0.0 && len.is_finite() && err <= len * 2f64.powi(-40) && d.e <= scale * 2f64.powi(-40) * (1.0 + self.magnitude()) {
+            return (n / len).extend(d.v / len);
         }
+        use crate::number::Exact;
+        let e = self.coefficients::<Exact>();
+        let Some(j) = (0..3).find(|&k| e[k].sign() != 0) else { return DVec4::ZERO };
+        let mut r = DVec3::from_array(std::array::from_fn(|k| Exact::ratio_to_f64(&e[k], &e[j])));
+        let mut off = Exact::ratio_to_f64(&e[3], &e[j]);
+        // Rescale by the largest component to keep the ratios in range.
+        let big = (0..3).max_by(|&x, &y| r[x].abs().total_cmp(&r[y].abs())).unwrap_or(j);
+        if big != j {
+            r = DVec3::from_array(std::array::from_fn(|k| Exact::ratio_to_f64(&e[k], &e[big])));
+            off = Exact::ratio_to_f64(&e[3], &e[big]);
+        }
+        // The ratio's sign may have flipped the normal: restore it.
+        let sign = if e[big].sign() < 0 { -1.0 } else { 1.0 };
+        let l = r.length();
+        (r * (sign / l)).extend(off * sign / l)
     }
 }
 
