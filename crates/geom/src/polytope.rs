@@ -406,27 +406,6 @@ impl Polytope {
         self.clip_all(&hs[..])
     }
 
-    /// Consistency check for debugging: every face vertex lies exactly on its
-    /// face plane and every vertex inside every face plane. Returns the
-    /// first violation as (face, vertex, side).
-    #[doc(hidden)]
-    pub fn debug_check(&mut self) -> Option<(usize, usize, i8)> {
-        if self.dim != 3 {
-            return None;
-        }
-        for f in 0..self.n_faces {
-            let plane = self.faces[f].plane as usize;
-            for v in 0..self.n_verts {
-                let on_face = self.face_slice(f).contains(&(v as u16));
-                let s = self.side(v, plane);
-                if (on_face && s != 0) || s > 0 {
-                    return Some((f, v, s));
-                }
-            }
-        }
-        None
-    }
-
     /// Whether the point lies in the closed polytope (exact).
     pub fn contains_point(&self, p: DVec3) -> bool {
         if self.dim < 0 || !p.is_finite() {

@@ -872,7 +872,7 @@ fn check_well_formed(c: &Case, body: &Body) -> Result<(), TestCaseError> {
                 let scale = (b - a).length() * (d - b).length();
                 if turn > 1e-9 * scale { signs.0 += 1 } else if turn < -1e-9 * scale { signs.1 += 1 }
             }
-            prop_assert!(signs.0 == 0 || signs.1 == 0, "polygon is not convex: {:?}", signs);
+            prop_assert!(signs.0 == 0 || signs.1 == 0, "polygon is not convex: {:?} {:?}", signs, body);
             prop_assert_eq!(body.volume(), 0.0);
         }
         Dimension::Solid => {
