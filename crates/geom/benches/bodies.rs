@@ -7,7 +7,7 @@
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glam::DVec3;
 use serde_json::Value;
-use shadowfocus_geom::{focus_body_into, Aabb, Body, Frustum, Light};
+use shadowfocus_geom::{focus_body_into, Aabb, Body, Frustum, Light, Polytope};
 use std::hint::black_box;
 use std::path::Path;
 
@@ -80,6 +80,38 @@ fn bench(c: &mut Criterion) {
         b.iter(|| {
             for case in &mixed {
                 let _ = black_box(Frustum::from_corners(black_box(case.corners)));
+            }
+        })
+    });
+    // What the scene-clip skip saves: point and spot cases with V ⊆ S and
+    // l ∈ S, computed by the engine (which starts from the box around V ∪ l)
+    // and the plain way (clip S by every plane of hull(V ∪ l) and L).
+    let skippable: Vec<&Case> = mixed
+        .iter()
+        .copied()
+        .filter(|c| {
+            focus_body_into(&mut body, &c.view, &c.light, &c.scene).is_ok() && body.stats().scene_clip_skipped
+        })
+        .collect();
+    eprintln!("scene-clip skip applies to {} of {} cases", skippable.len(), mixed.len());
+    group.throughput(Throughput::Elements(skippable.len().max(1) as u64));
+    group.bench_function("skippable_cases_with_skip", |b| {
+        b.iter(|| {
+            for case in &skippable {
+                let _ = focus_body_into(&mut body, &case.view, &case.light, &case.scene);
+            }
+        })
+    });
+    let mut poly = Polytope::from_aabb(&mixed[0].scene);
+    group.bench_function("skippable_cases_without_skip", |b| {
+        b.iter(|| {
+            for case in &skippable {
+                poly.reset_to_aabb(&case.scene);
+                let _ = poly.clip_all(case.view.hull_with(case.light.apex()).as_slice());
+                if let Light::Spot { frustum, .. } = &case.light {
+                    let _ = poly.clip_all(frustum.planes().as_slice());
+                }
+                black_box(poly.dimension());
             }
         })
     });

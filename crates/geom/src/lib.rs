@@ -42,7 +42,7 @@ mod polytope;
 pub use body::{focus_body, focus_body_into, Aabb, Body, Dimension, FocusStats, Light};
 pub use camera::{Camera, CameraBasis};
 pub use error::GeomError;
-pub use frustum::Frustum;
+pub use frustum::{Apex, Frustum, PlaneSet};
 pub use plane::Plane;
 pub use polytope::{Polytope, ROUNDING_ULPS};
 

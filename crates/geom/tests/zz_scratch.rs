@@ -25,3 +25,16 @@ fn scratch() {
         println!("face {fc:?} plane {p:?} dists {d:?}");
     }
 }
+#[test]
+fn scratch_up() {
+    let mut n = 0;
+    for i in 0..1000 {
+        let t = i as f64 * 0.01;
+        let fwd = DVec3::new(t.sin(), (1.3*t).cos(), 0.7 + t);
+        for k in [-2.0, 0.5] {
+            let cam = Camera { eye: DVec3::ZERO, forward: fwd, up: fwd * k, fovy: 1.0, aspect: 1.0, near: 1.0, far: 10.0 };
+            if cam.basis().is_ok() { n += 1; if n < 3 { println!("accepted {:?} {:?}", cam, cam.basis()); } }
+        }
+    }
+    println!("accepted {n} of 2000");
+}
