@@ -303,18 +303,19 @@ pub fn focus_body_into(out: &mut Body, view: &Frustum, light: &Light, scene: &Aa
     scene.validate()?;
     light.validate()?;
     let mut stats = FocusStats::default();
-    let corners = view.corners();
-    let start = match *light {
-        Light::Point { position } | Light::Spot { position, .. }
-            if scene.contains(position) && corners.iter().all(|c| scene.contains(*c)) =>
-        {
-            stats.scene_clip_skipped = true;
-            let mut b = Aabb::around(corners).expect("eight corners");
-            b.min = b.min.min(position);
-            b.max = b.max.max(position);
+    let start = match start_box(view, light, scene) {
+        Some((b, skipped)) => {
+            stats.scene_clip_skipped = skipped;
             b
         }
-        _ => *scene,
+        None => {
+            // The box around what can cast into V misses S: H is empty.
+            stats.early_exit = true;
+            stats.light_clip_skipped = !matches!(light, Light::Spot { .. });
+            out.clear();
+            out.stats = stats;
+            return Ok(());
+        }
     };
     let mut work = out.work.take().unwrap_or_else(|| Box::new(Polytope::from_aabb(&start)));
     work.reset_to_aabb(&start);
@@ -339,11 +340,54 @@ pub fn focus_body_into(out: &mut Body, view: &Frustum, light: &Light, scene: &Aa
         out.clear();
         return Err(e);
     }
-    stats.early_exit = work.is_empty();
+    stats.early_exit |= work.is_empty();
     stats.planes_cut = work.plane_count().saturating_sub(6) as u16;
     work.write_rounded(out);
     stats.exact_evaluations = work.exact_evaluations();
     out.stats = stats;
     out.work = Some(work);
     Ok(())
+}
+
+/// An exact box containing H to start clipping from, and whether it makes
+/// the clip by `S` unnecessary; `None` when H is certainly empty.
+///
+/// `hull(V ∪ {l})` lies in the box around V's corners and l. A directional
+/// light sweeps V without end toward the light, so on each axis the box
+/// extends to S's bound on the side the light comes from. The result is
+/// intersected with S (and with the box around a spot light's frustum). All
+/// bounds are input values, so the box is exact, and starting from it instead
+/// of S avoids making vertices far outside hull(V ∪ {l}) that later clips
+/// would only remove.
+fn start_box(view: &Frustum, light: &Light, scene: &Aabb) -> Option<(Aabb, bool)> {
+    let corners = view.corners();
+    let mut b = Aabb::around(corners).expect("eight corners");
+    match *light {
+        Light::Directional { direction } => {
+            for k in 0..3 {
+                // The light lies at infinity along −direction.
+                if direction[k] < 0.0 {
+                    b.max[k] = b.max[k].max(scene.max[k]);
+                } else if direction[k] > 0.0 {
+                    b.min[k] = b.min[k].min(scene.min[k]);
+                }
+            }
+        }
+        Light::Point { position } | Light::Spot { position, .. } => {
+            b.min = b.min.min(position);
+            b.max = b.max.max(position);
+        }
+    }
+    let inside_scene = b.min.cmpge(scene.min).all() && b.max.cmple(scene.max).all();
+    let mut out = Aabb { min: b.min.max(scene.min), max: b.max.min(scene.max) };
+    if let Light::Spot { frustum, .. } = light {
+        let l = Aabb::around(frustum.corners()).expect("eight corners");
+        out.min = out.min.max(l.min);
+        out.max = out.max.min(l.max);
+    }
+    if out.min.cmple(out.max).all() {
+        Some((out, inside_scene))
+    } else {
+        None
+    }
 }

@@ -848,7 +848,9 @@ impl Polytope {
         let mut out = [0.0; 3];
         let ok = match vert.def {
             VertexDef::Point(x) => return x,
-            VertexDef::OnLine { line, plane } => self.round_on_line(&line, plane as usize, &mut out),
+            VertexDef::OnLine { line, plane } => {
+                self.round_quotient(&vert.hom, &mut out) || self.round_on_line(&line, plane as usize, &mut out)
+            }
             VertexDef::Planes => self.round_quotient(&vert.hom, &mut out),
         };
         if !ok {
@@ -858,7 +860,8 @@ impl Polytope {
                 out[k] = Exact::ratio_to_f64(&e[k], &e[3]);
             }
         }
-        DVec3::from_array(out)
+        // Adding +0 turns a −0 from a negative W into +0.
+        DVec3::from_array(out.map(|x| x + 0.0))
     }
 }
 
