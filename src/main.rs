@@ -75,6 +75,14 @@ fn open(input: &str) -> io::Result<Box<dyn BufRead>> {
     }
 }
 
+/// A closed output pipe (`… | head`) ends the run quietly.
+fn quiet_pipe(r: io::Result<usize>) -> Result<usize, String> {
+    match r {
+        Err(e) if e.kind() == io::ErrorKind::BrokenPipe => Ok(0),
+        r => r.map_err(|e| e.to_string()),
+    }
+}
+
 fn failures(failed: usize) -> Result<bool, String> {
     if failed > 0 {
         eprintln!("{failed} case(s) failed");
@@ -91,7 +99,7 @@ fn run(command: Command) -> Result<bool, String> {
                 println!("{}", cli::body::bench(input).map_err(io_err)?);
                 return Ok(true);
             }
-            failures(cli::body::run(input, BufWriter::new(io::stdout().lock())).map_err(io_err)?)
+            failures(quiet_pipe(cli::body::run(input, BufWriter::new(io::stdout().lock())))?)
         }
         Command::Fit { options, input, bench } => {
             let settings = options.settings()?;
@@ -100,7 +108,7 @@ fn run(command: Command) -> Result<bool, String> {
                 println!("{}", cli::fit::bench(input, &settings).map_err(io_err)?);
                 return Ok(true);
             }
-            failures(cli::fit::run(input, BufWriter::new(io::stdout().lock()), &settings).map_err(io_err)?)
+            failures(quiet_pipe(cli::fit::run(input, BufWriter::new(io::stdout().lock()), &settings))?)
         }
         Command::Render { scene, options, size, out } => {
             let mut renderer = shadowfocus::render::Renderer::from_env().map_err(|e| e.to_string())?;
