@@ -49,6 +49,11 @@ enum Command {
         #[arg(long)]
         out: PathBuf,
     },
+    /// Run time against error: scenes × methods × splits × resolutions, skip plan on/off, numerical stress.
+    Bench {
+        #[command(flatten)]
+        options: cli::bench::BenchOptions,
+    },
     /// Render every built-in scene with every method at one texel budget.
     Demo {
         /// Output folder.
@@ -115,6 +120,10 @@ fn run(command: Command) -> Result<bool, String> {
             let scene = shadowfocus::render::load_scene(&scene).map_err(|e| e.to_string())?;
             let result = cli::render::render_to(&mut renderer, &scene, &options, size, &out)?;
             println!("{}", serde_json::to_string(&result.metrics).map_err(|e| e.to_string())?);
+            Ok(true)
+        }
+        Command::Bench { options } => {
+            println!("{}", cli::bench::run(&options)?);
             Ok(true)
         }
         Command::Demo { out, size, resolution, scenes } => {

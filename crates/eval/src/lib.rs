@@ -1,0 +1,20 @@
+//! Evaluation harness for shadowfocus: the tables behind its performance
+//! and accuracy claims.
+//!
+//! - [`bound`]: the least maximum perspective aliasing a texel budget allows
+//!   (logarithmic parameterisation), the yardstick for every method.
+//! - [`table`], [`svg`]: rows of the run-time-against-error sweep, their
+//!   CSV and markdown views, Pareto fronts and log–log plots.
+//! - [`stress`], [`naive`]: numerical stress families checked exactly,
+//!   against a naive floating-point pipeline.
+//! - [`fixtures`]: the body against the committed CGAL-exact fixtures, and
+//!   the naive pipeline against the same oracle.
+//!
+//! The sweep itself (scenes, renderer) is driven by `shadowfocus bench`.
+
+pub mod bound;
+pub mod fixtures;
+pub mod naive;
+pub mod stress;
+pub mod svg;
+pub mod table;
