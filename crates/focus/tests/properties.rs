@@ -77,7 +77,8 @@ fn check_frame(cam: &Camera, light: &Light, scene: &Aabb, s: &FocusSettings, out
         let fx = ((k * 37) % 64) as f64 / 63.0 * 2.0 - 1.0;
         let fy = ((k * 11) % 64) as f64 / 63.0 * 2.0 - 1.0;
         let fz = k as f64 / 63.0;
-        let z = cam.near + (cam.far - cam.near) * fz;
+        // NOTE: near + (far − near)·1 can round above far; clamp into range.
+        let z = (cam.near + (cam.far - cam.near) * fz).clamp(cam.near, cam.far);
         let p = cam.eye + b.forward * z + b.right * (fx * z * t * cam.aspect * 0.999) + b.up * (fy * z * t * 0.999);
         if !scene.contains(p) {
             continue;

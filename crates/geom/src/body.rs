@@ -267,19 +267,26 @@ impl Body {
         if self.dim != 3 || self.n_verts == 0 {
             return 0.0;
         }
-        // NOTE: tetrahedra from a vertex of the body rather than the origin:
-        // far from the origin, origin-based terms cancel catastrophically.
+        // NOTE: volume = Σ area_f · height_f / 3 with heights measured from a
+        // vertex r of the body. For a convex body every height is ≥ 0, so the
+        // sum has no cancellation; areas come from cross products of edges
+        // local to each face. (Fanning signed tetrahedra from r instead cancels
+        // catastrophically when the body has a vertex very far away.)
         let r = self.verts[0];
-        let mut six_v = 0.0;
-        for f in self.faces() {
-            let a = self.verts[f[0] as usize] - r;
-            for k in 1..f.len() - 1 {
-                let b = self.verts[f[k] as usize] - r;
-                let c = self.verts[f[k + 1] as usize] - r;
-                six_v += a.dot(b.cross(c));
+        let mut sum = 0.0;
+        for (f, face) in self.faces().enumerate() {
+            let n = self.face_planes[f].truncate();
+            let q = self.verts[face[0] as usize];
+            let mut area2 = glam::DVec3::ZERO;
+            for k in 1..face.len() - 1 {
+                let b = self.verts[face[k] as usize] - q;
+                let c = self.verts[face[k + 1] as usize] - q;
+                area2 += b.cross(c);
             }
+            let height = n.dot(q - r).max(0.0);
+            sum += 0.5 * area2.length() * height;
         }
-        six_v / 6.0
+        sum / 3.0
     }
 }
 
@@ -312,8 +319,11 @@ pub fn focus_body_into(out: &mut Body, view: &Frustum, light: &Light, scene: &Aa
             // The box around what can cast into V misses S: H is empty.
             stats.early_exit = true;
             stats.light_clip_skipped = !matches!(light, Light::Spot { .. });
+            let mut work = out.work.take().unwrap_or_else(|| Box::new(Polytope::from_aabb(scene)));
+            work.make_empty();
             out.clear();
             out.stats = stats;
+            out.work = Some(work);
             return Ok(());
         }
     };

@@ -313,6 +313,13 @@ impl Polytope {
         fold::<Exact>(line, &self.planes[on].coefficients(), &self.planes[p].coefficients()).0.sign()
     }
 
+    /// Makes the polytope empty.
+    pub fn make_empty(&mut self) {
+        self.dim = -1;
+        self.n_verts = 0;
+        self.n_faces = 0;
+    }
+
     /// Dimension of the polytope: −1 (empty) to 3 (solid).
     pub fn dimension(&self) -> i8 {
         self.dim

@@ -25,6 +25,11 @@ use std::collections::HashMap;
 
 const EPS: f64 = f64::EPSILON;
 
+/// Accuracy asked of an output face plane (unit normal and offset), in ulps:
+/// that of a plane rounded from the exact one, with the same allowance as
+/// the vertices.
+const FACE_PLANE_ULPS: f64 = ROUNDING_ULPS;
+
 // ---------------------------------------------------------------------------
 // Exact transforms of the input space
 // ---------------------------------------------------------------------------
@@ -410,6 +415,16 @@ fn body_of(c: &Case) -> Result<Body, TestCaseError> {
     geom(focus_body(&c.view.frustum, &c.light, &c.scene))
 }
 
+/// The exact body behind a successfully computed one; it must exist and
+/// agree with the rounded body's dimension.
+fn exact_of(body: &Body) -> Result<&Polytope, TestCaseError> {
+    let Some(h) = body.exact() else {
+        return Err(TestCaseError::fail(format!("exact() is None after a successful computation ({:?})", body.dimension())));
+    };
+    prop_assert_eq!(h.dimension() as i32, body.dimension().as_i32(), "exact and rounded bodies disagree on the dimension");
+    Ok(h)
+}
+
 /// 256 cases per property (about a second in all in release builds);
 /// `PROPTEST_CASES` overrides it for longer runs.
 fn config() -> ProptestConfig {
@@ -430,7 +445,7 @@ proptest! {
     #[test]
     fn view_scene_spot_is_inside_h(c in case()) {
         let body = body_of(&c)?;
-        let h = body.exact().unwrap();
+        let h = exact_of(&body)?;
         prop_assert_eq!(body.dimension().as_i32(), h.dimension() as i32);
         let vsl = view_scene_spot(&c)?;
         prop_assert!(geom(h.contains(&vsl))?, "V∩S∩L ⊄ H ({:?} vs {:?})", vsl.dimension(), body.dimension());
@@ -451,7 +466,7 @@ proptest! {
     #[test]
     fn h_is_inside_scene_and_spot(c in case()) {
         let body = body_of(&c)?;
-        let h = body.exact().unwrap();
+        let h = exact_of(&body)?;
         let s = Polytope::from_aabb(&c.scene);
         prop_assert!(geom(s.contains(h))?, "H ⊄ S");
         if let Some(f) = c.spot() {
@@ -470,7 +485,7 @@ proptest! {
     #[test]
     fn h_is_inside_hull_of_view_and_light(c in case()) {
         let body = body_of(&c)?;
-        let h = body.exact().unwrap();
+        let h = exact_of(&body)?;
         let planes = hull_planes(&c);
         for (k, plane) in planes.iter().enumerate() {
             for (i, corner) in c.view.corners().iter().enumerate() {
@@ -499,7 +514,7 @@ proptest! {
         let c = Case { scene: Aabb { min: b.min - e * pad, max: b.max + e * pad }, ..c };
         let body = body_of(&c)?;
         prop_assert_eq!(body.dimension(), Dimension::Solid);
-        let h = body.exact().unwrap();
+        let h = exact_of(&body)?;
         for p in &pts {
             prop_assert!(h.contains_point(*p), "generator {:?} not in H", p);
         }
@@ -524,7 +539,7 @@ proptest! {
     #[test]
     fn clipping_order_does_not_matter(c in case(), seed in any::<u64>()) {
         let body = body_of(&c)?;
-        let h = body.exact().unwrap();
+        let h = exact_of(&body)?;
         let (hull, spot) = (hull_planes(&c), spot_planes(&c));
         let from_s = |planes: &[Plane]| -> Result<Polytope, TestCaseError> {
             let mut p = Polytope::from_aabb(&c.scene);
@@ -578,7 +593,7 @@ proptest! {
         let c = Case { view: v, light: l, scene };
         prop_assume!(c.view.frustum.contains(c.light_position().unwrap()));
         let body = body_of(&c)?;
-        same_set(body.exact().unwrap(), &view_scene_spot(&c)?, "H vs V ∩ S ∩ L")?;
+        same_set(exact_of(&body)?, &view_scene_spot(&c)?, "H vs V ∩ S ∩ L")?;
     }
 
     /// Scaling every input by 2^k is exact in f64, and so is the body:
@@ -661,7 +676,7 @@ proptest! {
     #[test]
     fn rounding_is_conservative(c in case()) {
         let body = body_of(&c)?;
-        let h = body.exact().unwrap();
+        let h = exact_of(&body)?;
         let tol = c.tolerance();
         // NOTE: the grown boxes are computed in f64; 1% headroom absorbs the
         // rounding of `min − g` and `max + g`.
@@ -700,6 +715,8 @@ proptest! {
         geom(focus_body_into(&mut reused, &c.view.frustum, &c.light, &c.scene))?;
         prop_assert_eq!(format!("{body:?}"), format!("{reused:?}"), "reused body differs");
         prop_assert_eq!(body.volume().to_bits(), reused.volume().to_bits());
+        // The exact body must be this computation's, not a stale one.
+        same_set(exact_of(&body)?, exact_of(&reused)?, "fresh vs reused exact body")?;
     }
 
     /// Valid cameras always give valid frusta, containing the point on the
@@ -787,8 +804,8 @@ proptest! {
 // ---------------------------------------------------------------------------
 
 /// How far `p` lies outside the convex hull of the rounded body (0 inside).
-/// Solids use their face planes (offset through the farthest rounded face
-/// vertex), polygons their plane and edges, segments and points distance.
+/// Solids use their face normals, polygons their plane and edges, segments
+/// and points distance.
 fn distance_outside(body: &Body, p: DVec3) -> f64 {
     let verts = body.vertices();
     match body.dimension() {
@@ -820,11 +837,15 @@ fn distance_outside(body: &Body, p: DVec3) -> f64 {
             off_plane.max(outside)
         }
         Dimension::Solid => {
+            // NOTE: each face plane is moved out to the farthest rounded
+            // vertex of the whole body, making it a supporting plane of the
+            // rounded hull whatever the plane's own rounding error; the
+            // intersection of these halfspaces contains the hull, so the
+            // distance found never exceeds the true one.
             let mut d = 0.0f64;
-            for (f, plane) in body.faces().zip(body.face_planes()) {
+            for plane in body.face_planes() {
                 let n = plane.truncate();
-                if f.iter().any(|&i| (n.dot(verts[i as usize]) + plane.w).abs() > 1e-6 * (1.0 + verts[i as usize].abs().max_element())) || n.length() < 0.5 { continue; }
-                let reach = f.iter().map(|&i| n.dot(verts[i as usize] - p)).fold(f64::NEG_INFINITY, f64::max);
+                let reach = verts.iter().map(|v| n.dot(*v - p)).fold(f64::NEG_INFINITY, f64::max);
                 d = d.max(-reach);
             }
             d
@@ -915,19 +936,40 @@ fn check_well_formed(c: &Case, body: &Body) -> Result<(), TestCaseError> {
             let (v, e, f) = (n as i64, edges.len() as i64 / 2, body.face_count() as i64);
             prop_assert_eq!(v - e + f, 2, "Euler characteristic");
             prop_assert!(body.volume() > 0.0, "solid with volume {}", body.volume());
+            // Volume against the exact volume of the same rounded vertices:
+            // V = ⅙ Σ_f Σ_k v_0 · (v_k × v_k+1), every product taken exactly
+            // (f64 coordinates are dyadic: big integers at a common exponent).
+            let mut area = 0.0;
+            let mut tris = Vec::new();
+            for f in body.faces() {
+                let p = verts[f[0] as usize];
+                let mut a = DVec3::ZERO;
+                for k in 1..f.len() - 1 {
+                    a += (verts[f[k] as usize] - p).cross(verts[f[k + 1] as usize] - p);
+                    tris.push([p, verts[f[k] as usize], verts[f[k + 1] as usize]]);
+                }
+                area += 0.5 * a.length();
+            }
+            let six_v = exact_six_volume(&tris);
+            let reference = six_v / 6.0; // six_v is the exact sum, rounded once
+            let allowed = 1e-9 * reference.abs() + 4.0 * area * tol;
+            prop_assert!((body.volume() - reference).abs() <= allowed,
+                "volume {} but the vertices enclose {} (allowed difference {:e})", body.volume(), reference, allowed);
             // Outward unit face planes with every vertex on the inner side
             // and the face's own vertices on the plane, up to rounding.
-            // NOTE: the face plane is rounded from the exact plane; its
-            // offset carries a few ulps of the magnitude on top of the
-            // vertices' own rounding.
-            let slack = 3.0f64.sqrt() * tol + 64.0 * EPS * m;
+            // NOTE: a plane rounded from the exact one is off by a few ulps
+            // in its offset (of the magnitude m) and in its normal, which
+            // tilts it by up to that many ulps over the body's diameter D;
+            // the vertices add their own rounding (√3·tol in length).
+            let diameter = Aabb::around(verts).map(|b| (b.max - b.min).length()).unwrap_or(0.0);
+            let slack = 3.0f64.sqrt() * tol + FACE_PLANE_ULPS * EPS * (m + 2.0 * diameter);
             for (k, (face, plane)) in body.faces().zip(body.face_planes()).enumerate() {
                 let nrm = plane.truncate();
-                
+                prop_assert!((nrm.length() - 1.0).abs() < 1e-12, "face plane {} not unit", k);
                 for (i, p) in verts.iter().enumerate() {
                     let s = nrm.dot(*p) + plane.w;
-                    prop_assert!(true || s <= slack, "vertex {} is {:e} outside face plane {}", i, s, k);
-                    if false && face.contains(&(i as u16)) {
+                    prop_assert!(s <= slack, "vertex {} is {:e} outside face plane {}", i, s, k);
+                    if face.contains(&(i as u16)) {
                         prop_assert!(s >= -slack, "face {} vertex {} is {:e} off its plane {:?}\n{:?}", k, i, s, plane, body);
                     }
                 }
@@ -937,8 +979,8 @@ fn check_well_formed(c: &Case, body: &Body) -> Result<(), TestCaseError> {
                 for j in 1..face.len() - 1 {
                     newell += (verts[face[j] as usize] - o).cross(verts[face[j + 1] as usize] - o);
                 }
-                let diameter = face.iter().map(|&i| (verts[i as usize] - o).length()).fold(0.0, f64::max);
-                if false && newell.length() > 1e3 * slack * diameter {
+                let face_diameter = face.iter().map(|&i| (verts[i as usize] - o).length()).fold(0.0, f64::max);
+                if newell.length() > 1e3 * slack * face_diameter {
                     prop_assert!(newell.dot(nrm) > 0.0, "face {} is clockwise seen from outside", k);
                 }
             }
@@ -946,21 +988,41 @@ fn check_well_formed(c: &Case, body: &Body) -> Result<(), TestCaseError> {
     }
     Ok(())
 }
-#[test]
-fn zz_stats() {
-    use proptest::strategy::ValueTree;
-    let mut runner = proptest::test_runner::TestRunner::default();
-    let mut counts: std::collections::BTreeMap<String, usize> = Default::default();
-    let strat = case();
-    let mut exact = 0; let mut skipped = 0;
-    for _ in 0..4000 {
-        let c = strat.new_tree(&mut runner).unwrap().current();
-        let kind = match c.light { Light::Directional{..} => "dir", Light::Point{..} => "point", Light::Spot{..} => "spot" };
-        let b = focus_body(&c.view.frustum, &c.light, &c.scene).unwrap();
-        *counts.entry(format!("{kind} dim {}", b.dimension().as_i32())).or_default() += 1;
-        exact += (b.stats().exact_evaluations > 0) as usize;
-        skipped += b.stats().scene_clip_skipped as usize;
+
+/// `Σ a · (b × c)` over triangles, evaluated exactly and rounded once.
+fn exact_six_volume(tris: &[[DVec3; 3]]) -> f64 {
+    use num_bigint::BigInt;
+    // Every finite f64 is m·2^e with e ≥ −1074: scale all by 2^1074.
+    let big = |x: f64| -> BigInt {
+        if x == 0.0 {
+            return BigInt::from(0);
+        }
+        let bits = x.to_bits();
+        let exp = ((bits >> 52) & 0x7ff) as i64;
+        let frac = bits & ((1u64 << 52) - 1);
+        let (m, e) = if exp == 0 { (frac, -1074) } else { (frac | (1 << 52), exp - 1075) };
+        let v = BigInt::from(m) << ((e + 1074) as usize);
+        if x < 0.0 { -v } else { v }
+    };
+    let mut sum = BigInt::from(0);
+    for [a, b, c] in tris {
+        let (a, b, c) = (a.to_array().map(big), b.to_array().map(big), c.to_array().map(big));
+        let cx = &b[1] * &c[2] - &b[2] * &c[1];
+        let cy = &b[2] * &c[0] - &b[0] * &c[2];
+        let cz = &b[0] * &c[1] - &b[1] * &c[0];
+        sum += &a[0] * cx + &a[1] * cy + &a[2] * cz;
     }
-    for (k, v) in counts { println!("{k}: {v}"); }
-    println!("exact path used in {exact}, scene clip skipped {skipped}");
+    // sum · 2^(−3·1074), converted through its top 64 bits.
+    let (sign, mag) = sum.into_parts();
+    let bits = mag.bits() as i64;
+    let shift = (bits - 64).max(0);
+    let top: u64 = (&mag >> shift as usize).try_into().unwrap_or(u64::MAX);
+    let mut v = top as f64;
+    let mut k = shift - 3 * 1074;
+    while k != 0 {
+        let step = k.clamp(-1000, 1000);
+        v *= 2f64.powi(step as i32);
+        k -= step;
+    }
+    if sign == num_bigint::Sign::Minus { -v } else { v }
 }
