@@ -70,6 +70,16 @@ pub(crate) fn orient(p: DVec3, q: DVec3, r: DVec3, x: DVec3) -> i8 {
     // robust::orient3d is positive when x lies *below* the CCW triangle.
     let c = |v: DVec3| robust::Coord3D { x: v.x, y: v.y, z: v.z };
     let d = robust::orient3d(c(p), c(q), c(r), c(x));
+    let tiny = || {
+        let m = (q - p).abs().max_element().max((r - p).abs().max_element()).max((x - p).abs().max_element());
+        m < 1e-90
+    };
+    if !d.is_finite() || (d == 0.0 && tiny()) {
+        // NOTE: near the top of the f64 range the adaptive predicate
+        // overflows (a NaN or infinity says nothing about the sign), and
+        // near the bottom its products underflow to a false zero.
+        return dot(&cross(&diff::<Exact>(q, p), &diff::<Exact>(r, p)), &diff::<Exact>(x, p)).sign();
+    }
     if d > 0.0 {
         -1
     } else if d < 0.0 {

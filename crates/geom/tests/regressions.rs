@@ -64,3 +64,56 @@ fn exact_body_after_an_early_empty_result() {
     assert!(exact.is_empty(), "exact() still holds the previous body (dimension {})", exact.dimension());
     assert!(!exact.contains_point(DVec3::new(0.0, 0.0, -4.0)));
 }
+
+/// Found by the `body_api` fuzz target: a point light 1e285 away behind a
+/// frustum 2^47 deep with one creased side. Side tests through the light
+/// overflow f64 (products of three coordinate differences reach ~1e315), and
+/// an overflowed orientation must not be taken as "coplanar": the clipper
+/// built an inconsistent solid and panicked ("every edge has a twin").
+#[test]
+fn point_light_near_the_top_of_the_f64_range() {
+    let (n, f) = (2f64.powi(41), 2f64.powi(47));
+    let mut c = [
+        DVec3::new(-n, -n, -n),
+        DVec3::new(n, -n, -n),
+        DVec3::new(n, n, -n),
+        DVec3::new(-n, n, -n),
+        DVec3::new(-f, -f, -f),
+        DVec3::new(f, -f, -f),
+        DVec3::new(f, f, -f),
+        DVec3::new(-f, f, -f),
+    ];
+    c[6] += DVec3::new(63.5, -0.5, -0.5);
+    let view = Frustum::from_corners(c).unwrap();
+    let scene = Aabb::new(DVec3::splat(-1e306), DVec3::splat(1e306)).unwrap();
+    for light in [DVec3::new(0.0, 0.0, 1e285), DVec3::new(0.0, 1e300, 0.0)] {
+        let body = focus_body(&view, &Light::point(light).unwrap(), &scene).unwrap();
+        // S holds V and the light, so H = hull(V ∪ l) holds every corner.
+        let h = body.exact().unwrap();
+        assert_eq!(body.dimension(), Dimension::Solid);
+        for (i, corner) in c.iter().enumerate() {
+            assert!(h.contains_point(*corner), "corner {i} lost for a light at {light:?}");
+        }
+        assert!(h.contains_point(light));
+    }
+}
+
+/// A valid frustum scaled by a power of two is still valid: its corners are
+/// exact, and so are the predicates deciding its shape. Orientation tests
+/// that overflow (|x| ≳ 2^340) or underflow (|x| ≲ 2^-340) in f64 must fall
+/// back to exact arithmetic rather than report "all corners are coplanar".
+#[test]
+fn frusta_at_the_ends_of_the_f64_range() {
+    let mut c = [DVec3::ZERO; 8];
+    for (k, t) in [1.0, 8.0].into_iter().enumerate() {
+        for (i, (x, y)) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)].into_iter().enumerate() {
+            c[4 * k + i] = DVec3::new(x * t, y * t, -t);
+        }
+    }
+    for k in [-600, -400, -340, 340, 400, 600, 1000] {
+        let s = 2f64.powi(k);
+        let f = Frustum::from_corners(c.map(|p| p * s)).unwrap_or_else(|e| panic!("scaled by 2^{k}: {e}"));
+        assert!(f.contains(DVec3::new(0.0, 0.0, -4.0) * s), "2^{k}: centre not inside");
+        assert!(!f.contains(DVec3::new(0.0, 0.0, 4.0) * s), "2^{k}: point behind the eye inside");
+    }
+}
