@@ -129,7 +129,7 @@ fuzz_target!(|input: Input| {
                 // `hull_with` is public and must cope with any apex.
                 let planes = match light.as_ref().map(|l| l.build(&f, frustum)) {
                     None => f.planes().as_slice().to_vec(),
-                    Some(Ok(l)) => f.hull_with(l.apex()).as_slice().to_vec(),
+                    Some(Ok(l)) => f.hull_with(l.apex()).map(|h| h.as_slice().to_vec()).unwrap_or_default(),
                     Some(Err(_)) => continue,
                 };
                 let before = p.clone();

@@ -107,7 +107,9 @@ fn bench(c: &mut Criterion) {
         b.iter(|| {
             for case in &skippable {
                 poly.reset_to_aabb(&case.scene);
-                let _ = poly.clip_all(case.view.hull_with(case.light.apex()).as_slice());
+                if let Ok(hull) = case.view.hull_with(case.light.apex()) {
+                    let _ = poly.clip_all(hull.as_slice());
+                }
                 if let Light::Spot { frustum, .. } = &case.light {
                     let _ = poly.clip_all(frustum.planes().as_slice());
                 }

@@ -331,7 +331,7 @@ pub fn focus_body_into(out: &mut Body, view: &Frustum, light: &Light, scene: &Aa
     work.reset_to_aabb(&start);
 
     let result = (|| -> Result<(), GeomError> {
-        let hull = view.hull_with(light.apex());
+        let hull = view.hull_with(light.apex())?;
         stats.planes_offered += hull.as_slice().len() as u16;
         work.clip_all(hull.as_slice())?;
         match light {

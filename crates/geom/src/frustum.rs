@@ -222,7 +222,19 @@ impl Frustum {
     /// plane contains the apex count as not seeing it, so coplanar cases keep
     /// their plane (the new facet through a neighbouring horizon edge then
     /// coincides with it and is redundant, never wrong).
-    pub fn hull_with(&self, apex: Apex) -> PlaneSet {
+    ///
+    /// A non-finite apex, or a point at infinity in the zero direction, is
+    /// an error: the hull is not defined.
+    pub fn hull_with(&self, apex: Apex) -> Result<PlaneSet, GeomError> {
+        match apex {
+            Apex::Finite(l) => check_finite(l, "hull apex")?,
+            Apex::Infinite(d) => {
+                check_finite(d, "hull apex direction")?;
+                if d == DVec3::ZERO {
+                    return Err(GeomError::ZeroDirection { what: "hull apex direction" });
+                }
+            }
+        }
         let n = self.face_count();
         let mut sees = [false; MAX_FRUSTUM_FACES];
         for (i, seen) in sees.iter_mut().enumerate().take(n) {
@@ -253,7 +265,7 @@ impl Frustum {
                 }
             }
         }
-        out
+        Ok(out)
     }
 
     fn face_with_edge(&self, a: u8, b: u8) -> Option<usize> {

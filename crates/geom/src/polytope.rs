@@ -289,23 +289,20 @@ impl Polytope {
     /// orientation test of input points (adaptive, no big integers) and a
     /// well-conditioned product.
     fn fold_sign(&mut self, line: &Line, on: usize, p: usize) -> i8 {
-        let pl = self.planes[on];
-        let (pts, n) = pl.points();
+        let (pts, n) = self.planes[on].points();
         for &b in &pts[..n] {
-            if self.planes[p].contains_line(line) && pl.passes_through(b) == Some(true) {
-                let lies_on_line = match *line {
-                    Line::TwoPoints(a, c) => b == a || b == c,
-                    Line::PointDirection(a, _) => b == a,
-                };
-                if lies_on_line {
-                    continue;
-                }
-                let (_, perp) = fold::<Filtered>(line, &self.coef[on], &self.coef[p]);
-                let hb = [Filtered::lit(b.x), Filtered::lit(b.y), Filtered::lit(b.z), Filtered::lit(1.0)];
-                if let Some(t) = side_value(&perp, &hb).sign() {
-                    if t != 0 {
-                        return point_side(&self.planes[p], b) * t;
-                    }
+            let lies_on_line = match *line {
+                Line::TwoPoints(a, c) => b == a || b == c,
+                Line::PointDirection(a, _) => b == a,
+            };
+            if lies_on_line {
+                continue;
+            }
+            let (_, perp) = fold::<Filtered>(line, &self.coef[on], &self.coef[p]);
+            let hb = [Filtered::lit(b.x), Filtered::lit(b.y), Filtered::lit(b.z), Filtered::lit(1.0)];
+            if let Some(t) = side_value(&perp, &hb).sign() {
+                if t != 0 {
+                    return point_side(&self.planes[p], b) * t;
                 }
             }
         }

@@ -377,7 +377,7 @@ fn spot_planes(c: &Case) -> Vec<Plane> {
 }
 
 fn hull_planes(c: &Case) -> Vec<Plane> {
-    c.view.frustum.hull_with(c.light.apex()).as_slice().to_vec()
+    c.view.frustum.hull_with(c.light.apex()).expect("valid lights have a hull").as_slice().to_vec()
 }
 
 /// `V ∩ S ∩ L`, exactly.

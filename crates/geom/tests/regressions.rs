@@ -1,7 +1,7 @@
 //! Regressions found by the property tests and the fuzz targets, replayed
 //! as fixed inputs so that they keep failing loudly if they come back.
 
-use shadowfocus_geom::{focus_body, focus_body_into, Aabb, Body, Dimension, DVec3, Frustum, Light};
+use shadowfocus_geom::{focus_body, focus_body_into, Aabb, Apex, Body, Dimension, DVec3, Frustum, Light, Polytope};
 
 /// A point light 1e13 away with the scene holding both V and the light:
 /// H is the pyramid over V's far face with its apex at the light. Volume
@@ -115,5 +115,34 @@ fn frusta_at_the_ends_of_the_f64_range() {
         let f = Frustum::from_corners(c.map(|p| p * s)).unwrap_or_else(|e| panic!("scaled by 2^{k}: {e}"));
         assert!(f.contains(DVec3::new(0.0, 0.0, -4.0) * s), "2^{k}: centre not inside");
         assert!(!f.contains(DVec3::new(0.0, 0.0, 4.0) * s), "2^{k}: point behind the eye inside");
+    }
+}
+
+/// Found by the `polytope_ops` fuzz target: `hull_with` is public and takes
+/// any `Apex`; a non-finite one (here the point at infinity along −∞·x, from
+/// an unchecked `Light::Directional`) reached the exact arithmetic, whose
+/// literals must be finite (a debug assertion; meaningless signs in release
+/// builds). Whatever planes come back, clipping by them must either be
+/// rejected or keep the frustum.
+#[test]
+fn hull_with_a_non_finite_apex() {
+    let view = simple_view();
+    let inside = DVec3::new(0.0, 0.0, -4.0);
+    for apex in [
+        Apex::Infinite(DVec3::new(f64::NEG_INFINITY, 0.0, 0.0)),
+        Apex::Infinite(DVec3::new(f64::NAN, 1.0, 0.0)),
+        Apex::Infinite(DVec3::ZERO),
+        Apex::Finite(DVec3::new(0.0, f64::INFINITY, 0.0)),
+        Apex::Finite(DVec3::splat(f64::NAN)),
+    ] {
+        // The hull of a non-finite apex is undefined: a typed error.
+        assert!(view.hull_with(apex).is_err(), "{apex:?}: accepted");
+    }
+    // A valid apex far away still keeps V.
+    for apex in [Apex::Infinite(DVec3::new(1e300, 0.0, 0.0)), Apex::Finite(DVec3::new(0.0, 1e300, 0.0))] {
+        let planes = view.hull_with(apex).unwrap();
+        let mut p = Polytope::from_aabb(&Aabb::new(DVec3::splat(-100.0), DVec3::splat(100.0)).unwrap());
+        p.clip_all(planes.as_slice()).unwrap();
+        assert!(p.contains_point(inside), "{apex:?}: the hull lost V's centre");
     }
 }
