@@ -283,8 +283,13 @@ impl Body {
                 let c = self.verts[face[k + 1] as usize] - q;
                 area2 += b.cross(c);
             }
-            let height = n.dot(q - r).max(0.0);
-            sum += 0.5 * area2.length() * height;
+            let height = n.dot(q - r);
+            if height > 0.0 {
+                // NOTE: past the f64 range the cross products overflow; an
+                // overflowed area is +∞, never NaN (∞ − ∞).
+                let area = area2.length();
+                sum += 0.5 * if area.is_nan() { f64::INFINITY } else { area } * height;
+            }
         }
         sum / 3.0
     }

@@ -70,15 +70,21 @@ pub(crate) fn orient(p: DVec3, q: DVec3, r: DVec3, x: DVec3) -> i8 {
     // robust::orient3d is positive when x lies *below* the CCW triangle.
     let c = |v: DVec3| robust::Coord3D { x: v.x, y: v.y, z: v.z };
     let d = robust::orient3d(c(p), c(q), c(r), c(x));
-    let tiny = || {
-        let m = (q - p).abs().max_element().max((r - p).abs().max_element()).max((x - p).abs().max_element());
-        m < 1e-90
-    };
-    if !d.is_finite() || (d == 0.0 && tiny()) {
+    if !d.is_finite() || d == 0.0 {
         // NOTE: near the top of the f64 range the adaptive predicate
-        // overflows (a NaN or infinity says nothing about the sign), and
-        // near the bottom its products underflow to a false zero.
-        return dot(&cross(&diff::<Exact>(q, p), &diff::<Exact>(r, p)), &diff::<Exact>(x, p)).sign();
+        // overflows (a NaN or infinity says nothing about the sign), and its
+        // products can underflow to a false zero. A zero is trusted only when
+        // the filter proves it exact (every operation exact); else the sign
+        // is computed with big integers.
+        fn eval<T: Ring>(p: DVec3, q: DVec3, r: DVec3, x: DVec3) -> T {
+            dot(&cross(&diff::<T>(q, p), &diff::<T>(r, p)), &diff::<T>(x, p))
+        }
+        if d == 0.0 {
+            if let Some(0) = eval::<Filtered>(p, q, r, x).sign() {
+                return 0;
+            }
+        }
+        return eval::<Exact>(p, q, r, x).sign();
     }
     if d > 0.0 {
         -1

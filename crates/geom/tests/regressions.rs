@@ -1,7 +1,7 @@
 //! Regressions found by the property tests and the fuzz targets, replayed
 //! as fixed inputs so that they keep failing loudly if they come back.
 
-use shadowfocus_geom::{focus_body, focus_body_into, Aabb, Apex, Body, Dimension, DVec3, Frustum, Light, Polytope};
+use shadowfocus_geom::{focus_body, focus_body_into, Aabb, Apex, Body, Dimension, DVec3, Frustum, Light, Plane, Polytope};
 
 /// A point light 1e13 away with the scene holding both V and the light:
 /// H is the pyramid over V's far face with its apex at the light. Volume
@@ -145,4 +145,51 @@ fn hull_with_a_non_finite_apex() {
         p.clip_all(planes.as_slice()).unwrap();
         assert!(p.contains_point(inside), "{apex:?}: the hull lost V's centre");
     }
+}
+
+/// Found by the `body_api` fuzz target: a body reaching to −f64::MAX (a
+/// point light there, a scene box down to it). Its volume exceeds the f64
+/// range; it must come out as +∞, not NaN (∞ − ∞ in the sum).
+#[test]
+fn volume_beyond_the_f64_range_is_infinite_not_nan() {
+    let eye = DVec3::new(3044096.0, -5297105.0, 3044096.0);
+    let (a, b) = (253.0 / 16.0, 253.0 / 16.0);
+    let mut c = [DVec3::ZERO; 8];
+    for (k, t) in [1.0, 2.0].into_iter().enumerate() {
+        for (i, (sx, sy)) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)].into_iter().enumerate() {
+            c[4 * k + i] = eye + DVec3::new(sx * a * t, sy * b * t, -t);
+        }
+    }
+    c[5] += DVec3::new(0.0, -0.375, -0.375);
+    let view = Frustum::from_corners(c).unwrap();
+    let light = Light::point(DVec3::new(-f64::MAX, f64::from_bits(3866109), -1e12)).unwrap();
+    let scene = Aabb::new(DVec3::new(-f64::MAX, -f64::MAX, -205.0), DVec3::ZERO).unwrap();
+    let body = focus_body(&view, &light, &scene).unwrap();
+    assert!(body.vertices().iter().all(|v| v.is_finite()));
+    let v = body.volume();
+    assert!(!v.is_nan() && v >= 0.0, "volume {v} for a {:?} body", body.dimension());
+    if body.dimension() == Dimension::Solid {
+        assert!(v > 0.0);
+    }
+}
+
+/// Found by the `polytope_ops` fuzz target: a box out to f64::MAX clipped by
+/// the plane through (ε, −1, ε), (41·2^−1074, 0, 0) and the origin. Its exact
+/// normal is 41·2^−1074·(0, ε, 1), far below the subnormal range, so the
+/// adaptive orientation predicate underflows to a false "on the plane" for
+/// box corners that are strictly outside, although the differences of the
+/// points are not small. Exactly, the plane touches the box along one edge:
+/// the result is the segment y = −1, z = ε.
+#[test]
+fn clip_whose_orientation_underflows() {
+    let eps = f64::EPSILON;
+    let b = Aabb::new(DVec3::new(-1.0, -1.0, eps), DVec3::new(f64::MAX, 5e-324, f64::MAX)).unwrap();
+    let mut p = Polytope::from_aabb(&b);
+    let plane = Plane::Points([DVec3::new(eps, -1.0, eps), DVec3::new(f64::from_bits(41), 0.0, 0.0), DVec3::ZERO]);
+    p.clip(&plane).unwrap();
+    assert_eq!(p.dimension(), 1, "the plane touches the box along an edge");
+    assert!(p.contains_point(DVec3::new(0.0, -1.0, eps)));
+    assert!(p.contains_point(DVec3::new(f64::MAX, -1.0, eps)));
+    assert!(!p.contains_point(DVec3::new(0.0, 0.0, eps)));
+    assert!(!p.contains_point(DVec3::new(0.0, -1.0, 2.0 * eps)));
 }
