@@ -70,12 +70,13 @@ pub(crate) fn orient(p: DVec3, q: DVec3, r: DVec3, x: DVec3) -> i8 {
     // robust::orient3d is positive when x lies *below* the CCW triangle.
     let c = |v: DVec3| robust::Coord3D { x: v.x, y: v.y, z: v.z };
     let d = robust::orient3d(c(p), c(q), c(r), c(x));
-    if !d.is_finite() || d == 0.0 {
-        // NOTE: near the top of the f64 range the adaptive predicate
-        // overflows (a NaN or infinity says nothing about the sign), and its
-        // products can underflow to a false zero. A zero is trusted only when
-        // the filter proves it exact (every operation exact); else the sign
-        // is computed with big integers.
+    // NOTE: with every coordinate 0 or within [2^-200, 2^200], no product
+    // of the adaptive predicate can overflow or underflow, so its sign is
+    // exact. Outside that range an infinity or NaN says nothing about the
+    // sign, and a zero may be a product that underflowed: then the zero is
+    // trusted only when the filter proves it exact, else big integers decide.
+    let safe = |v: DVec3| v.to_array().iter().all(|c| *c == 0.0 || (c.abs() >= 2f64.powi(-200) && c.abs() <= 2f64.powi(200)));
+    if !d.is_finite() || (d == 0.0 && !(safe(p) && safe(q) && safe(r) && safe(x))) {
         fn eval<T: Ring>(p: DVec3, q: DVec3, r: DVec3, x: DVec3) -> T {
             dot(&cross(&diff::<T>(q, p), &diff::<T>(r, p)), &diff::<T>(x, p))
         }
