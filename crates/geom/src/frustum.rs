@@ -72,18 +72,16 @@ pub(crate) fn orient(p: DVec3, q: DVec3, r: DVec3, x: DVec3) -> i8 {
     let d = robust::orient3d(c(p), c(q), c(r), c(x));
     // NOTE: with every coordinate 0 or within [2^-200, 2^200], no product
     // of the adaptive predicate can overflow or underflow, so its sign is
-    // exact. Outside that range an infinity or NaN says nothing about the
-    // sign, and a zero may be a product that underflowed: then the zero is
-    // trusted only when the filter proves it exact, else big integers decide.
+    // exact. Outside that range any result may be wrong (an infinity, a NaN,
+    // a false zero or even a false sign from underflowed products): there the
+    // filter decides when it can, else big integers.
     let safe = |v: DVec3| v.to_array().iter().all(|c| *c == 0.0 || (c.abs() >= 2f64.powi(-200) && c.abs() <= 2f64.powi(200)));
-    if !d.is_finite() || (d == 0.0 && !(safe(p) && safe(q) && safe(r) && safe(x))) {
+    if !d.is_finite() || !(safe(p) && safe(q) && safe(r) && safe(x)) {
         fn eval<T: Ring>(p: DVec3, q: DVec3, r: DVec3, x: DVec3) -> T {
             dot(&cross(&diff::<T>(q, p), &diff::<T>(r, p)), &diff::<T>(x, p))
         }
-        if d == 0.0 {
-            if let Some(0) = eval::<Filtered>(p, q, r, x).sign() {
-                return 0;
-            }
+        if let Some(s) = eval::<Filtered>(p, q, r, x).sign() {
+            return s;
         }
         return eval::<Exact>(p, q, r, x).sign();
     }

@@ -193,3 +193,27 @@ fn clip_whose_orientation_underflows() {
     assert!(!p.contains_point(DVec3::new(0.0, 0.0, eps)));
     assert!(!p.contains_point(DVec3::new(0.0, -1.0, 2.0 * eps)));
 }
+
+/// Found by the `polytope_ops` fuzz target: the segment x = z = ε,
+/// y ∈ [ε, 12289] clipped by the plane through (0, −3.4e178, −2.9e298),
+/// (6.7e-310, 0, 0) and the origin. Exactly, that halfspace is
+/// `a·z ≤ b·y` with b/a ≈ 8.3e119, which holds on the whole segment; but
+/// with coordinates far outside the range where the adaptive orientation
+/// predicate is exact (1e298 and a subnormal), its nonzero answer had the
+/// wrong sign: the clip cut off the endpoint y = ε and put a new one outside
+/// the segment, so the result was not even a subset of the input.
+#[test]
+fn clip_with_orientation_outside_the_safe_range() {
+    let e = f64::EPSILON;
+    let segment = Polytope::from_aabb(&Aabb::new(DVec3::new(e, e, e), DVec3::new(e, 12289.0, e)).unwrap());
+    let plane = Plane::Points([
+        DVec3::new(0.0, f64::from_bits(16501470511038005114), f64::from_bits(18295281948936896485)),
+        DVec3::new(f64::from_bits(135012313726976), 0.0, 0.0),
+        DVec3::ZERO,
+    ]);
+    let mut p = segment.clone();
+    let cut = p.clip(&plane).unwrap();
+    assert!(!cut, "the halfspace holds the whole segment");
+    assert!(p.contains_point(DVec3::new(e, e, e)));
+    assert!(segment.contains(&p).unwrap() && p.contains(&segment).unwrap());
+}
