@@ -90,12 +90,16 @@ pub fn bench(input: impl BufRead) -> std::io::Result<Value> {
     let mut body_ns = Vec::with_capacity(cases.len());
     let mut with_frustum_ns = Vec::with_capacity(cases.len());
     let mut exact_cases = 0;
+    let (mut float_ns, mut engine_ns) = (Vec::new(), Vec::new());
     for case in &cases {
         let _ = focus_body_into(&mut body, &case.view, &case.light, &case.scene);
         exact_cases += (body.stats().exact_evaluations > 0) as usize;
-        body_ns.push(case_median_ns(|| {
+        let on_float_path = body.stats().float_path;
+        let ns = case_median_ns(|| {
             let _ = focus_body_into(&mut body, &case.view, &case.light, &case.scene);
-        }));
+        });
+        body_ns.push(ns);
+        if on_float_path { &mut float_ns } else { &mut engine_ns }.push(ns);
         let corners = *case.view.corners();
         with_frustum_ns.push(case_median_ns(|| {
             if let Ok(view) = Frustum::from_corners(std::hint::black_box(corners)) {
@@ -115,7 +119,10 @@ pub fn bench(input: impl BufRead) -> std::io::Result<Value> {
         "p99_ns": p99(&mut body_ns),
         "with_frustum_validation_median_ns": med_f,
         "with_frustum_validation_p99_ns": p99(&mut with_frustum_ns),
-        "cases_using_exact_fallback": exact_cases,
+        "cases_on_float_path": float_ns.len(),
+        "float_path_median_ns": if float_ns.is_empty() { 0.0 } else { median(&mut float_ns) },
+        "exact_engine_median_ns": if engine_ns.is_empty() { 0.0 } else { median(&mut engine_ns) },
+        "cases_using_big_integers": exact_cases,
         "invalid_lines_skipped": skipped,
     }))
 }

@@ -1,7 +1,8 @@
 //! The focus body `H = hull(V ∪ {l}) ∩ S ∩ L` and its rounded output form.
 
 use crate::error::{check_finite, GeomError};
-use crate::frustum::{Apex, Frustum};
+use crate::certified::{CertifiedClipper, Step};
+use crate::frustum::{Apex, Frustum, PlaneSet};
 use crate::polytope::Polytope;
 use crate::{MAX_FACES, MAX_FACE_INDICES, MAX_VERTICES};
 use glam::{DVec3, DVec4};
@@ -148,6 +149,9 @@ pub struct FocusStats {
     pub early_exit: bool,
     /// Predicates the floating-point filter could not decide (exact path).
     pub exact_evaluations: u32,
+    /// The certified floating-point path answered; the exact engine was
+    /// not needed.
+    pub float_path: bool,
 }
 
 /// A focus body with rounded vertices: a fixed-capacity value, reusable
@@ -163,9 +167,12 @@ pub struct Body {
     pub(crate) n_faces: usize,
     pub(crate) volume: f64,
     pub(crate) stats: FocusStats,
-    /// Scratch space for the exact computation, allocated on first use and
-    /// kept, so that reusing a `Body` allocates and re-initialises nothing.
+    /// Scratch space for the exact engine and the fast path, allocated on
+    /// first use and kept, so that reusing a `Body` allocates nothing.
     work: Option<Box<Polytope>>,
+    fast: Option<Box<CertifiedClipper>>,
+    /// The inputs of the last successful computation.
+    inputs: Option<(Frustum, Light, Aabb)>,
 }
 
 impl Default for Body {
@@ -199,6 +206,8 @@ impl Body {
             volume: 0.0,
             stats: FocusStats::default(),
             work: None,
+            fast: None,
+            inputs: None,
         }
     }
 
@@ -253,9 +262,18 @@ impl Body {
     }
 
     /// The exact (unrounded) body behind the rounded one, for exact
-    /// containment queries. `None` before the first computation.
-    pub fn exact(&self) -> Option<&Polytope> {
-        self.work.as_deref()
+    /// containment queries; `None` before the first successful computation.
+    ///
+    /// NOTE: this runs the exact engine again on the last inputs (and
+    /// allocates): it is a verification tool, not part of a frame.
+    pub fn exact(&self) -> Option<Box<Polytope>> {
+        let (view, light, scene) = self.inputs?;
+        let mut work = Box::new(Polytope::from_aabb(&scene));
+        match plan(&view, &light, &scene).ok()? {
+            Some(plan) => clip_exactly(&mut work, &plan).ok()?,
+            None => work.make_empty(),
+        }
+        Some(work)
     }
 
     /// The smallest box around the rounded vertices, `None` when empty.
@@ -302,8 +320,65 @@ pub fn focus_body(view: &Frustum, light: &Light, scene: &Aabb) -> Result<Body, G
     Ok(b)
 }
 
+/// What the clipper is given: a box known to contain H, the halfspaces of
+/// `hull(V ∪ {l})`, and those of a spot light's frustum.
+struct Plan {
+    start: Aabb,
+    fast_start: Aabb,
+    scene_clip_skipped: bool,
+    hull: PlaneSet,
+    light_planes: Option<PlaneSet>,
+}
+
+/// `None` when H is certainly empty before any clipping.
+fn plan(view: &Frustum, light: &Light, scene: &Aabb) -> Result<Option<Plan>, GeomError> {
+    let Some(b) = start_box(view, light, scene) else { return Ok(None) };
+    let hull = view.hull_with(light.apex())?;
+    let light_planes = match light {
+        Light::Spot { frustum, .. } => Some(frustum.planes()),
+        _ => None,
+    };
+    Ok(Some(Plan { start: b.exact, fast_start: b.widened, scene_clip_skipped: b.inside_scene, hull, light_planes }))
+}
+
+/// The exact engine: every decision exact, vertices kept unrounded.
+fn clip_exactly(work: &mut Polytope, plan: &Plan) -> Result<(), GeomError> {
+    work.reset_to_aabb(&plan.start);
+    work.clip_all(plan.hull.as_slice())?;
+    if let Some(l) = &plan.light_planes {
+        work.clip_all(l.as_slice())?;
+    }
+    Ok(())
+}
+
+/// The fast path (see [`crate::certified`]): `Uncertain` sends the case to
+/// the exact engine.
+fn clip_certified(fast: &mut CertifiedClipper, plan: &Plan, view: &Frustum, light: &Light) -> Step {
+    let (position, light_frustum) = match light {
+        Light::Directional { .. } => (None, None),
+        Light::Point { position } => (Some(*position), None),
+        Light::Spot { position, frustum } => (Some(*position), Some(frustum.corners())),
+    };
+    let mut step = fast.reset(&plan.fast_start, view.corners(), position, light_frustum);
+    if step == Step::Solid {
+        step = fast.clip_set(&plan.hull, false);
+    }
+    if let (Step::Solid, Some(l)) = (step, &plan.light_planes) {
+        step = fast.clip_set(l, true);
+    }
+    step
+}
+
 /// Computes the focus body into a reusable `Body`, without allocating once
 /// `out` has been used before.
+///
+/// Every case first runs a floating-point clipper whose every sign is
+/// proven by an error bound, and whose output coordinates are proven within
+/// [`crate::ROUNDING_ULPS`] of the exact ones; when a bound cannot prove a
+/// decision (exact coincidences such as a scene face through a frustum
+/// corner, flat results, near-degenerate input) the case is computed again by
+/// the exact engine. Both give the same exact body; [`FocusStats::float_path`]
+/// says which one answered.
 ///
 /// Work skipped when a case does not need it:
 /// - `L` is clipped only for spot lights;
@@ -312,55 +387,72 @@ pub fn focus_body(view: &Frustum, light: &Light, scene: &Aabb) -> Result<Body, G
 ///   `V ∪ {l}` instead of clipping by `S`;
 /// - clipping stops as soon as the body is empty.
 pub fn focus_body_into(out: &mut Body, view: &Frustum, light: &Light, scene: &Aabb) -> Result<(), GeomError> {
+    compute(out, view, light, scene, true)
+}
+
+/// [`focus_body_into`] without the floating-point path: every case runs the
+/// exact engine. The answer is the same; this is the reference the fast
+/// path is tested against, and a baseline for benchmarks.
+pub fn focus_body_exact_into(out: &mut Body, view: &Frustum, light: &Light, scene: &Aabb) -> Result<(), GeomError> {
+    compute(out, view, light, scene, false)
+}
+
+fn compute(out: &mut Body, view: &Frustum, light: &Light, scene: &Aabb, float_path: bool) -> Result<(), GeomError> {
     scene.validate()?;
     light.validate()?;
-    let mut stats = FocusStats::default();
-    let start = match start_box(view, light, scene) {
-        Some((b, skipped)) => {
-            stats.scene_clip_skipped = skipped;
-            b
-        }
-        None => {
+    out.inputs = None;
+    let mut stats = FocusStats { light_clip_skipped: !matches!(light, Light::Spot { .. }), ..FocusStats::default() };
+    let plan = match plan(view, light, scene) {
+        Ok(Some(plan)) => plan,
+        Ok(None) => {
             // The box around what can cast into V misses S: H is empty.
-            stats.early_exit = true;
-            stats.light_clip_skipped = !matches!(light, Light::Spot { .. });
-            let mut work = out.work.take().unwrap_or_else(|| Box::new(Polytope::from_aabb(scene)));
-            work.make_empty();
             out.clear();
+            stats.early_exit = true;
+            stats.float_path = float_path;
             out.stats = stats;
-            out.work = Some(work);
+            out.inputs = Some((*view, *light, *scene));
             return Ok(());
         }
-    };
-    let mut work = out.work.take().unwrap_or_else(|| Box::new(Polytope::from_aabb(&start)));
-    work.reset_to_aabb(&start);
-
-    let result = (|| -> Result<(), GeomError> {
-        let hull = view.hull_with(light.apex())?;
-        stats.planes_offered += hull.as_slice().len() as u16;
-        work.clip_all(hull.as_slice())?;
-        match light {
-            Light::Spot { frustum, .. } if !work.is_empty() => {
-                let l = frustum.planes();
-                stats.planes_offered += l.as_slice().len() as u16;
-                work.clip_all(l.as_slice())?;
-            }
-            Light::Spot { .. } => {}
-            _ => stats.light_clip_skipped = true,
+        Err(e) => {
+            out.clear();
+            return Err(e);
         }
-        Ok(())
-    })();
-    if let Err(e) = result {
-        out.work = Some(work);
-        out.clear();
-        return Err(e);
+    };
+    stats.scene_clip_skipped = plan.scene_clip_skipped;
+    stats.planes_offered = (plan.hull.as_slice().len() + plan.light_planes.map_or(0, |l| l.as_slice().len())) as u16;
+
+    let mut answered = false;
+    if float_path {
+        let mut fast = out.fast.take().unwrap_or_else(|| Box::new(CertifiedClipper::new()));
+        answered = match clip_certified(&mut fast, &plan, view, light) {
+            Step::Empty => {
+                out.clear();
+                stats.early_exit = true;
+                true
+            }
+            Step::Solid => fast.write(out),
+            Step::Uncertain => false,
+        };
+        stats.planes_cut = fast.cuts;
+        out.fast = Some(fast);
     }
-    stats.early_exit |= work.is_empty();
-    stats.planes_cut = work.plane_count().saturating_sub(6) as u16;
-    work.write_rounded(out);
-    stats.exact_evaluations = work.exact_evaluations();
+    if answered {
+        stats.float_path = true;
+    } else {
+        let mut work = out.work.take().unwrap_or_else(|| Box::new(Polytope::from_aabb(&plan.start)));
+        if let Err(e) = clip_exactly(&mut work, &plan) {
+            out.work = Some(work);
+            out.clear();
+            return Err(e);
+        }
+        stats.early_exit |= work.is_empty();
+        stats.planes_cut = work.plane_count().saturating_sub(6) as u16;
+        work.write_rounded(out);
+        stats.exact_evaluations = work.exact_evaluations();
+        out.work = Some(work);
+    }
     out.stats = stats;
-    out.work = Some(work);
+    out.inputs = Some((*view, *light, *scene));
     Ok(())
 }
 
@@ -374,7 +466,7 @@ pub fn focus_body_into(out: &mut Body, view: &Frustum, light: &Light, scene: &Aa
 /// bounds are input values, so the box is exact, and starting from it instead
 /// of S avoids making vertices far outside hull(V ∪ {l}) that later clips
 /// would only remove.
-fn start_box(view: &Frustum, light: &Light, scene: &Aabb) -> Option<(Aabb, bool)> {
+fn start_box(view: &Frustum, light: &Light, scene: &Aabb) -> Option<StartBox> {
     let corners = view.corners();
     let mut b = Aabb::around(corners).expect("eight corners");
     match *light {
@@ -394,15 +486,45 @@ fn start_box(view: &Frustum, light: &Light, scene: &Aabb) -> Option<(Aabb, bool)
         }
     }
     let inside_scene = b.min.cmpge(scene.min).all() && b.max.cmple(scene.max).all();
-    let mut out = Aabb { min: b.min.max(scene.min), max: b.max.min(scene.max) };
-    if let Light::Spot { frustum, .. } = light {
-        let l = Aabb::around(frustum.corners()).expect("eight corners");
-        out.min = out.min.max(l.min);
-        out.max = out.max.min(l.max);
-    }
+    let light_box = match light {
+        Light::Spot { frustum, .. } => Aabb::around(frustum.corners()),
+        _ => None,
+    };
+    let clipped = |b: Aabb, l: Option<Aabb>| {
+        let mut out = Aabb { min: b.min.max(scene.min), max: b.max.min(scene.max) };
+        if let Some(l) = l {
+            out.min = out.min.max(l.min);
+            out.max = out.max.min(l.max);
+        }
+        out
+    };
+    let out = clipped(b, light_box);
     if out.min.cmple(out.max).all() {
-        Some((out, inside_scene))
+        Some(StartBox { exact: out, widened: clipped(widened(b), light_box.map(widened)), inside_scene })
     } else {
         None
     }
+}
+
+struct StartBox {
+    /// The tightest box from the inputs.
+    exact: Aabb,
+    /// The same with faces moved off the frustum corners (where S does not
+    /// bound it), for the floating-point path.
+    widened: Aabb,
+    /// `V ∪ {l} ⊆ S`.
+    inside_scene: bool,
+}
+
+/// Grows a box by a small fraction of its size. The tight box's faces pass
+/// through frustum corners and often contain whole frustum edges (a level
+/// camera's near and far edges share a coordinate): vertices made on those
+/// faces then lie exactly on frustum planes, an exact zero that floating
+/// point cannot prove. A box a little larger still contains H and still
+/// lies in S once intersected with it, so the body is unchanged.
+fn widened(b: Aabb) -> Aabb {
+    // NOTE: pad ≥ 0, so the rounded min − pad is ≤ min and max + pad ≥ max:
+    // the result contains b whatever the rounding.
+    let pad = (b.max - b.min) * (1.0 / 64.0) + b.min.abs().max(b.max.abs()) * 2f64.powi(-30);
+    Aabb { min: b.min - pad, max: b.max + pad }
 }

@@ -43,25 +43,44 @@ pub enum Apex {
     Infinite(DVec3),
 }
 
+/// Bit of the hull apex in [`PlaneSet::through`] (bits 0–7 are corners).
+pub(crate) const APEX_BIT: u32 = 1 << 8;
+
 /// A fixed-capacity list of halfspaces.
 #[derive(Clone, Copy, Debug)]
 pub struct PlaneSet {
     planes: [Plane; 2 * MAX_FRUSTUM_FACES],
+    /// Per plane, the frustum corners (bits 0–7) and the finite hull apex
+    /// ([`APEX_BIT`]) it passes through by construction: exact incidences
+    /// known without arithmetic.
+    through: [u32; 2 * MAX_FRUSTUM_FACES],
     len: usize,
 }
 
 impl PlaneSet {
     pub(crate) fn new() -> Self {
-        PlaneSet { planes: [Plane::Axis { axis: 0, upper: true, value: 0.0 }; 2 * MAX_FRUSTUM_FACES], len: 0 }
+        PlaneSet {
+            planes: [Plane::Axis { axis: 0, upper: true, value: 0.0 }; 2 * MAX_FRUSTUM_FACES],
+            through: [0; 2 * MAX_FRUSTUM_FACES],
+            len: 0,
+        }
     }
-    fn push(&mut self, p: Plane) {
+    fn push(&mut self, p: Plane, through: u32) {
         // Capacity: kept faces + horizon edges ≤ 12 + 12 for a frustum hull.
         self.planes[self.len] = p;
+        self.through[self.len] = through;
         self.len += 1;
     }
     pub fn as_slice(&self) -> &[Plane] {
         &self.planes[..self.len]
     }
+    pub(crate) fn through(&self) -> &[u32] {
+        &self.through[..self.len]
+    }
+}
+
+fn corner_bits(idx: &[u8]) -> u32 {
+    idx.iter().fold(0, |m, &i| m | 1 << i)
 }
 
 /// Sign of `((q − p) × (r − p)) · (x − p)`: positive when `x` lies on the
@@ -213,7 +232,7 @@ impl Frustum {
     pub fn planes(&self) -> PlaneSet {
         let mut out = PlaneSet::new();
         for i in 0..self.face_count() {
-            out.push(self.face_plane(i));
+            out.push(self.face_plane(i), corner_bits(self.face(i)));
         }
         out
     }
@@ -253,7 +272,7 @@ impl Frustum {
         let mut out = PlaneSet::new();
         for i in 0..n {
             if !sees[i] {
-                out.push(self.face_plane(i));
+                out.push(self.face_plane(i), corner_bits(self.face(i)));
                 continue;
             }
             let f = self.face(i);
@@ -262,10 +281,11 @@ impl Frustum {
                 if let Some(j) = self.face_with_edge(b, a) {
                     if !sees[j] {
                         let (pa, pb) = (self.corners[a as usize], self.corners[b as usize]);
-                        out.push(match apex {
-                            Apex::Finite(l) => Plane::Points([pa, pb, l]),
-                            Apex::Infinite(direction) => Plane::PointsDirection { p: pa, q: pb, direction },
-                        });
+                        let (plane, apex_bit) = match apex {
+                            Apex::Finite(l) => (Plane::Points([pa, pb, l]), APEX_BIT),
+                            Apex::Infinite(direction) => (Plane::PointsDirection { p: pa, q: pb, direction }, 0),
+                        };
+                        out.push(plane, corner_bits(&[a, b]) | apex_bit);
                     }
                 }
             }

@@ -18,7 +18,7 @@
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
 use shadowfocus_geom::{
-    focus_body, focus_body_into, Aabb, Body, Camera, DVec3, Dimension, Frustum, GeomError, Light, Plane, Polytope,
+    focus_body, focus_body_exact_into, focus_body_into, Aabb, Body, Camera, DVec3, Dimension, Frustum, GeomError, Light, Plane, Polytope,
     ROUNDING_ULPS,
 };
 use std::collections::HashMap;
@@ -418,7 +418,7 @@ fn body_of(c: &Case) -> Result<Body, TestCaseError> {
 
 /// The exact body behind a successfully computed one; it must exist and
 /// agree with the rounded body's dimension.
-fn exact_of(body: &Body) -> Result<&Polytope, TestCaseError> {
+fn exact_of(body: &Body) -> Result<Box<Polytope>, TestCaseError> {
     let Some(h) = body.exact() else {
         return Err(TestCaseError::fail(format!("exact() is None after a successful computation ({:?})", body.dimension())));
     };
@@ -446,7 +446,8 @@ proptest! {
     #[test]
     fn view_scene_spot_is_inside_h(c in case()) {
         let body = body_of(&c)?;
-        let h = exact_of(&body)?;
+        let h_box = exact_of(&body)?;
+        let h = &*h_box;
         prop_assert_eq!(body.dimension().as_i32(), h.dimension() as i32);
         let vsl = view_scene_spot(&c)?;
         prop_assert!(geom(h.contains(&vsl))?, "V∩S∩L ⊄ H ({:?} vs {:?})", vsl.dimension(), body.dimension());
@@ -467,7 +468,8 @@ proptest! {
     #[test]
     fn h_is_inside_scene_and_spot(c in case()) {
         let body = body_of(&c)?;
-        let h = exact_of(&body)?;
+        let h_box = exact_of(&body)?;
+        let h = &*h_box;
         let s = Polytope::from_aabb(&c.scene);
         prop_assert!(geom(s.contains(h))?, "H ⊄ S");
         if let Some(f) = c.spot() {
@@ -486,7 +488,8 @@ proptest! {
     #[test]
     fn h_is_inside_hull_of_view_and_light(c in case()) {
         let body = body_of(&c)?;
-        let h = exact_of(&body)?;
+        let h_box = exact_of(&body)?;
+        let h = &*h_box;
         let planes = hull_planes(&c);
         for (k, plane) in planes.iter().enumerate() {
             for (i, corner) in c.view.corners().iter().enumerate() {
@@ -515,7 +518,8 @@ proptest! {
         let c = Case { scene: Aabb { min: b.min - e * pad, max: b.max + e * pad }, ..c };
         let body = body_of(&c)?;
         prop_assert_eq!(body.dimension(), Dimension::Solid);
-        let h = exact_of(&body)?;
+        let h_box = exact_of(&body)?;
+        let h = &*h_box;
         for p in &pts {
             prop_assert!(h.contains_point(*p), "generator {:?} not in H", p);
         }
@@ -540,7 +544,8 @@ proptest! {
     #[test]
     fn clipping_order_does_not_matter(c in case(), seed in any::<u64>()) {
         let body = body_of(&c)?;
-        let h = exact_of(&body)?;
+        let h_box = exact_of(&body)?;
+        let h = &*h_box;
         let (hull, spot) = (hull_planes(&c), spot_planes(&c));
         let from_s = |planes: &[Plane]| -> Result<Polytope, TestCaseError> {
             let mut p = Polytope::from_aabb(&c.scene);
@@ -594,7 +599,7 @@ proptest! {
         let c = Case { view: v, light: l, scene };
         prop_assume!(c.view.frustum.contains(c.light_position().unwrap()));
         let body = body_of(&c)?;
-        same_set(exact_of(&body)?, &view_scene_spot(&c)?, "H vs V ∩ S ∩ L")?;
+        same_set(&*exact_of(&body)?, &view_scene_spot(&c)?, "H vs V ∩ S ∩ L")?;
     }
 
     /// Scaling every input by 2^k is exact in f64, and so is the body:
@@ -677,7 +682,8 @@ proptest! {
     #[test]
     fn rounding_is_conservative(c in case()) {
         let body = body_of(&c)?;
-        let h = exact_of(&body)?;
+        let h_box = exact_of(&body)?;
+        let h = &*h_box;
         let tol = c.tolerance();
         // NOTE: the grown boxes are computed in f64; 1% headroom absorbs the
         // rounding of `min − g` and `max + g`.
@@ -717,7 +723,29 @@ proptest! {
         prop_assert_eq!(format!("{body:?}"), format!("{reused:?}"), "reused body differs");
         prop_assert_eq!(body.volume().to_bits(), reused.volume().to_bits());
         // The exact body must be this computation's, not a stale one.
-        same_set(exact_of(&body)?, exact_of(&reused)?, "fresh vs reused exact body")?;
+        same_set(&*exact_of(&body)?, &*exact_of(&reused)?, "fresh vs reused exact body")?;
+    }
+
+    /// The certified floating-point path and the exact engine give the same
+    /// body: same dimension, same faces (as vertex-count multisets), and
+    /// vertices matched one to one within twice the rounding bound.
+    #[test]
+    fn float_path_agrees_with_exact_engine(c in case()) {
+        let fast = body_of(&c)?;
+        let mut exact = Body::new();
+        geom(focus_body_exact_into(&mut exact, &c.view.frustum, &c.light, &c.scene))?;
+        prop_assert!(!exact.stats().float_path);
+        prop_assert_eq!(fast.dimension(), exact.dimension());
+        prop_assert_eq!(fast.vertices().len(), exact.vertices().len(), "vertex counts differ ({:?} path)", fast.stats().float_path);
+        let mut sizes = |b: &Body| { let mut v: Vec<usize> = b.faces().map(|f| f.len()).collect(); v.sort(); v };
+        prop_assert_eq!(sizes(&fast), sizes(&exact), "face sizes differ");
+        let tol = 2.0 * c.tolerance();
+        let mut used = vec![false; exact.vertices().len()];
+        for v in fast.vertices() {
+            let m = exact.vertices().iter().enumerate().position(|(i, w)| !used[i] && (*v - *w).abs().max_element() <= tol);
+            prop_assert!(m.is_some(), "vertex {:?} has no exact counterpart within {:e}", v, tol);
+            used[m.unwrap()] = true;
+        }
     }
 
     /// Valid cameras always give valid frusta, containing the point on the
@@ -1026,4 +1054,42 @@ fn exact_six_volume(tris: &[[DVec3; 3]]) -> f64 {
         k -= step;
     }
     if sign == num_bigint::Sign::Minus { -v } else { v }
+}
+
+/// The floating-point path must answer ordinary frames (a tilted camera, a
+/// sun, a point light and a spot light in general position); the exact
+/// engine is for coincidences.
+#[test]
+fn float_path_answers_general_position_frames() {
+    let view = Frustum::from_camera(&Camera {
+        eye: DVec3::new(0.3, 2.1, 10.2),
+        forward: DVec3::new(0.1, -0.2, -1.0),
+        up: DVec3::Y,
+        fovy: 55f64.to_radians(),
+        aspect: 1.6,
+        near: 0.4,
+        far: 60.0,
+    })
+    .unwrap();
+    let scene = Aabb::new(DVec3::new(-30.0, -1.0, -70.0), DVec3::new(30.0, 9.0, 8.0)).unwrap();
+    let spot = Frustum::from_camera(&Camera {
+        eye: DVec3::new(4.0, 12.0, -5.0),
+        forward: DVec3::new(-0.2, -1.0, -0.3),
+        up: DVec3::Z,
+        fovy: 70f64.to_radians(),
+        aspect: 1.0,
+        near: 0.5,
+        far: 40.0,
+    })
+    .unwrap();
+    let lights = [
+        Light::directional(DVec3::new(0.3, -1.0, 0.2)).unwrap(),
+        Light::point(DVec3::new(-3.0, 7.5, -12.0)).unwrap(),
+        Light::spot(DVec3::new(4.0, 12.0, -5.0), spot).unwrap(),
+    ];
+    for light in lights {
+        let body = focus_body(&view, &light, &scene).unwrap();
+        assert_eq!(body.dimension(), Dimension::Solid);
+        assert!(body.stats().float_path, "{light:?} went to the exact engine");
+    }
 }

@@ -1,0 +1,741 @@
+//! The fast path: clipping in plain `f64`, every decision certified.
+//!
+//! A vertex is kept as a rounded point with a per-coordinate bound on its
+//! distance from the exact vertex; a side value comes with a bound on its
+//! distance from the exact side value, and its sign is taken only when the
+//! value is further from zero than the bound. A sign that no bound proves
+//! (an exact zero the construction does not explain, or a value too close
+//! to zero) abandons the fast path, and the caller runs the exact engine
+//! ([`crate::polytope::Polytope`]) instead. So the fast path never decides
+//! anything the exact engine would decide differently: it only skips the
+//! exact engine's work when floating point provably suffices.
+//!
+//! Zeros that the construction explains are exact, not filtered:
+//! - a vertex that is an input point (a frustum corner, the light) lies on
+//!   every plane defined through that point;
+//! - a coordinate fixed by an axis plane of the box is exact, so the sign
+//!   against any axis plane is a comparison of two floats;
+//! - a vertex whose coordinates are all exact is tested with the exact
+//!   orientation predicate.
+//!
+//! Two planes defined through a common pair of points meet in that line,
+//! often at a tiny angle (the two triangles of a creased frustum side). A
+//! vertex on one of them is then tested against the other through a
+//! well-conditioned proxy: on plane `i`, plane `k` vanishes on the shared
+//! line and nowhere else, so its sign is that of any plane through the line
+//! transverse to `i`, times a constant sign fixed by one input point.
+//!
+//! Degenerate vertices (on more than three planes) are allowed: the clipper
+//! keeps, per vertex, the set of planes it lies on, and clips through
+//! on-plane vertices without creating new ones. A result that would be flat
+//! goes to the exact engine.
+
+use crate::body::{Aabb, Body};
+use crate::frustum::PlaneSet;
+use crate::plane::Plane;
+use crate::polytope::{point_side, ROUNDING_ULPS};
+use crate::{MAX_FACE_INDICES, MAX_VERTICES};
+use glam::{DMat3, DVec3, DVec4};
+
+/// Unit roundoff.
+const U: f64 = f64::EPSILON * 0.5;
+/// NOTE: bounds are themselves rounded; every bound is a sum of products of
+/// non-negative terms, low by at most a few ulps, which this factor covers.
+const SLACK: f64 = 1.0 + 1.0 / (1u64 << 40) as f64;
+/// Side values this small are never certified: it keeps underflow (where
+/// relative error bounds fail) out of the way.
+const FLOOR: f64 = 1e-280;
+
+/// Box (6) + hull of a frustum with a point (≤ 24) + light frustum (≤ 12).
+const MAX_FAST_PLANES: usize = 48;
+/// A face has at most one edge per other plane.
+const FACE_CAP: usize = MAX_FAST_PLANES;
+const CAP_V: usize = MAX_VERTICES;
+const NONE: u8 = u8::MAX;
+/// Input points: frustum corners 0–7, light 8, light frustum corners 9–16.
+const N_POINTS: usize = 17;
+const LIGHT_FRUSTUM_SHIFT: u32 = 9;
+
+#[derive(Clone, Copy, Debug)]
+struct FloatPlane {
+    src: Plane,
+    /// `x[axis] ≤ value` (or `≥`) when `axis < 3`; a general plane otherwise.
+    axis: u8,
+    upper: bool,
+    value: f64,
+    /// `n · (x − anchor) + offset ≤ 0` inside, with `|ñ − n| ≤ en` per component.
+    n: DVec3,
+    en: DVec3,
+    anchor: DVec3,
+    offset: f64,
+    /// Input points the plane passes through by definition.
+    through: u32,
+    /// Side-bound coefficients: `e = w_coef·|w| + r_coef·r + off_bound`.
+    w_coef: DVec3,
+    r_coef: DVec3,
+    off_bound: f64,
+}
+
+/// `|a| × |b|` with every product added: bounds the rounding of `a × b`.
+fn abs_cross(a: DVec3, b: DVec3) -> DVec3 {
+    let (a, b) = (a.abs(), b.abs());
+    DVec3::new(a.y * b.z + a.z * b.y, a.z * b.x + a.x * b.z, a.x * b.y + a.y * b.x)
+}
+
+impl FloatPlane {
+    fn new(src: Plane, through: u32) -> FloatPlane {
+        let general = |n: DVec3, en: DVec3, anchor: DVec3, offset: f64| FloatPlane::general(src, n, en, anchor, offset, through);
+        match src {
+            Plane::Axis { axis, upper, value } => {
+                let mut n = DVec3::ZERO;
+                n[axis as usize] = if upper { 1.0 } else { -1.0 };
+                FloatPlane { axis, upper, value, ..FloatPlane::general(src, n, DVec3::ZERO, DVec3::ZERO, 0.0, through) }
+            }
+            // NOTE: each cross-product component is a difference of two
+            // products of rounded differences: at most 4 roundings of the
+            // products' size, bounded by 5u of their absolute sum.
+            Plane::Points([p, q, r]) => {
+                let (a, b) = (q - p, r - p);
+                general(a.cross(b), abs_cross(a, b) * (5.0 * U), p, 0.0)
+            }
+            Plane::PointsDirection { p, q, direction } => {
+                let a = q - p;
+                general(a.cross(direction), abs_cross(a, direction) * (5.0 * U), p, 0.0)
+            }
+            Plane::Coefficients { normal, offset } => general(normal, DVec3::ZERO, DVec3::ZERO, offset),
+        }
+    }
+
+    /// `n · (x − anchor) + offset` with `|ñ − n| ≤ en`.
+    fn general(src: Plane, n: DVec3, en: DVec3, anchor: DVec3, offset: f64, through: u32) -> FloatPlane {
+        // NOTE: |s̃ − s| ≤ 6u(|ñ|·|w̃| + |offset|) (the dot product, the
+        // difference w̃ = x̃ − anchor and the offset's addition) + en·|w̃|
+        // (the normal's error) + (|ñ| + en)·r (the point's error).
+        let na = n.abs();
+        FloatPlane {
+            src,
+            axis: 3,
+            upper: false,
+            value: 0.0,
+            n,
+            en,
+            anchor,
+            offset,
+            through,
+            w_coef: na * (6.0 * U) + en,
+            r_coef: na + en,
+            off_bound: 6.0 * U * offset.abs(),
+        }
+    }
+
+    /// Side value at a point known within `r`, and a bound on its error.
+    #[inline]
+    fn side(&self, x: DVec3, r: DVec3) -> (f64, f64) {
+        if self.axis < 3 {
+            let k = self.axis as usize;
+            let d = x[k] - self.value;
+            let s = if self.upper { d } else { -d };
+            // NOTE: with an exact coordinate (r = 0) the rounded difference
+            // has the exact sign, zero included: the bound is 2u·|s| < |s|.
+            return (s, r[k] * SLACK + 2.0 * U * s.abs());
+        }
+        let w = x - self.anchor;
+        let s = self.n.dot(w) + self.offset;
+        let e = (self.w_coef.dot(w.abs()) + self.r_coef.dot(r) + self.off_bound) * SLACK + FLOOR;
+        (s, e)
+    }
+
+    /// Rounded unit normal and offset for output.
+    fn approximate(&self) -> DVec4 {
+        if self.axis < 3 {
+            let s = if self.upper { 1.0 } else { -1.0 };
+            return self.n.extend(-s * self.value);
+        }
+        let len = self.n.length();
+        if len > 0.0 && len.is_finite() && self.en.max_element() <= len * 2f64.powi(-40) {
+            return (self.n / len).extend((self.offset - self.n.dot(self.anchor)) / len);
+        }
+        self.src.approximate()
+    }
+}
+
+/// A plane through the line `a`–`c` of plane `p`, perpendicular to `p`:
+/// with `p` it defines that line well even where another plane through the
+/// line meets `p` at a tiny angle.
+fn line_proxy(p: &FloatPlane, a: DVec3, c: DVec3) -> FloatPlane {
+    // NOTE: m = (c − a) × n_p; its error comes from the rounded difference,
+    // from n_p's error, and from the cross product's own rounding.
+    let e = c - a;
+    let en = abs_cross(e, p.en) * SLACK + abs_cross(e, p.n) * (5.0 * U);
+    FloatPlane::general(Plane::Coefficients { normal: DVec3::ZERO, offset: 0.0 }, e.cross(p.n), en, a, 0.0, 0)
+}
+
+/// A sign proven by `(value, bound)`; `bound == 0` means the value is exact.
+#[inline]
+fn decide(s: f64, e: f64) -> Option<i8> {
+    if !s.is_finite() {
+        None
+    } else if s > e {
+        Some(1)
+    } else if s < -e {
+        Some(-1)
+    } else if e == 0.0 {
+        Some(0)
+    } else {
+        None
+    }
+}
+
+#[derive(Clone, Copy)]
+struct Cycle {
+    plane: u8,
+    len: u8,
+    v: [u8; FACE_CAP],
+}
+
+/// How a clip ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Step {
+    /// The body is solid (cut or not).
+    Solid,
+    Empty,
+    /// A decision floating point could not prove: run the exact engine.
+    Uncertain,
+}
+
+/// The proxy for testing points of plane `i` against plane `k` when both
+/// pass through two common input points (see the module notes).
+#[derive(Clone, Copy)]
+struct Fold {
+    i: u8,
+    k: u8,
+    /// A plane through the common line, transverse to plane `i`.
+    proxy: FloatPlane,
+    /// `sign(k) = sign × sign(proxy)` on plane `i`.
+    sign: f64,
+}
+
+/// Scratch space of the fast path, reused across frames.
+#[derive(Clone)]
+pub(crate) struct CertifiedClipper {
+    planes: [FloatPlane; MAX_FAST_PLANES],
+    /// Per plane: the earlier planes sharing a line of input points with it.
+    partners: [u64; MAX_FAST_PLANES],
+    n_planes: usize,
+    points: [DVec3; N_POINTS],
+    pos: [DVec3; CAP_V],
+    rad: [DVec3; CAP_V],
+    /// Planes each vertex lies on exactly.
+    on: [u64; CAP_V],
+    /// Input points each vertex is exactly equal to.
+    is_point: [u32; CAP_V],
+    n_verts: usize,
+    faces: [Cycle; MAX_FAST_PLANES],
+    n_faces: usize,
+    magnitude: f64,
+    sign: [i8; CAP_V],
+    folds: [Option<Fold>; 4],
+    /// Planes that cut.
+    pub cuts: u16,
+}
+
+const DUMMY_PLANE: FloatPlane = FloatPlane {
+    src: Plane::Axis { axis: 0, upper: true, value: 0.0 },
+    axis: 0,
+    upper: true,
+    value: 0.0,
+    n: DVec3::ZERO,
+    en: DVec3::ZERO,
+    anchor: DVec3::ZERO,
+    offset: 0.0,
+    through: 0,
+    w_coef: DVec3::ZERO,
+    r_coef: DVec3::ZERO,
+    off_bound: 0.0,
+};
+
+/// Corner index bits are (x, y, z) at max; faces CCW from outside, on
+/// planes `2·axis` (min) and `2·axis + 1` (max).
+const BOX_FACES: [(u8, [u8; 4]); 6] =
+    [(0, [0, 4, 6, 2]), (1, [1, 3, 7, 5]), (2, [0, 1, 5, 4]), (3, [2, 6, 7, 3]), (4, [0, 2, 3, 1]), (5, [4, 5, 7, 6])];
+
+impl CertifiedClipper {
+    pub(crate) fn new() -> CertifiedClipper {
+        CertifiedClipper {
+            planes: [DUMMY_PLANE; MAX_FAST_PLANES],
+            partners: [0; MAX_FAST_PLANES],
+            n_planes: 0,
+            points: [DVec3::ZERO; N_POINTS],
+            pos: [DVec3::ZERO; CAP_V],
+            rad: [DVec3::ZERO; CAP_V],
+            on: [0; CAP_V],
+            is_point: [0; CAP_V],
+            n_verts: 0,
+            faces: [Cycle { plane: 0, len: 0, v: [0; FACE_CAP] }; MAX_FAST_PLANES],
+            n_faces: 0,
+            magnitude: 0.0,
+            sign: [0; CAP_V],
+            folds: [None; 4],
+            cuts: 0,
+        }
+    }
+
+    /// Starts from a solid box; `points` are the input points planes may be
+    /// defined through (see `N_POINTS`). Returns `Uncertain` for a flat box.
+    pub(crate) fn reset(&mut self, b: &Aabb, view: &[DVec3; 8], light: Option<DVec3>, light_frustum: Option<&[DVec3; 8]>) -> Step {
+        self.n_planes = 0;
+        self.n_faces = 0;
+        self.n_verts = 0;
+        self.cuts = 0;
+        self.folds = [None; 4];
+        if !(b.min.is_finite() && b.max.is_finite()) || (0..3).any(|k| b.min[k] >= b.max[k]) {
+            return Step::Uncertain;
+        }
+        self.points[..8].copy_from_slice(view);
+        self.points[8] = light.unwrap_or(DVec3::NAN);
+        match light_frustum {
+            Some(c) => self.points[9..].copy_from_slice(c),
+            None => self.points[9..].fill(DVec3::NAN),
+        }
+        self.magnitude = b.min.abs().max(b.max.abs()).max_element();
+        for axis in 0..3u8 {
+            for upper in [false, true] {
+                let value = if upper { b.max[axis as usize] } else { b.min[axis as usize] };
+                self.planes[self.n_planes] = FloatPlane::new(Plane::Axis { axis, upper, value }, 0);
+                self.n_planes += 1;
+            }
+        }
+        for i in 0..8usize {
+            let x = DVec3::new(
+                if i & 1 != 0 { b.max.x } else { b.min.x },
+                if i & 2 != 0 { b.max.y } else { b.min.y },
+                if i & 4 != 0 { b.max.z } else { b.min.z },
+            );
+            self.pos[i] = x;
+            self.rad[i] = DVec3::ZERO;
+            self.on[i] = 1 << (i & 1) | 1 << (2 + ((i >> 1) & 1)) | 1 << (4 + ((i >> 2) & 1));
+            // A box corner equal to a frustum corner or the light inherits
+            // that point's incidences.
+            self.is_point[i] = (0..9).filter(|&j| self.points[j] == x).fold(0, |m, j| m | 1 << j);
+        }
+        self.n_verts = 8;
+        for (f, (plane, cycle)) in BOX_FACES.iter().enumerate() {
+            let mut c = Cycle { plane: *plane, len: 4, v: [0; FACE_CAP] };
+            c.v[..4].copy_from_slice(cycle);
+            self.faces[f] = c;
+        }
+        self.n_faces = 6;
+        Step::Solid
+    }
+
+    /// Clips by every plane of a set (`light_frustum`: the set is the light
+    /// frustum's, whose corners are input points 9–16).
+    pub(crate) fn clip_set(&mut self, set: &PlaneSet, light_frustum: bool) -> Step {
+        for (p, &through) in set.as_slice().iter().zip(set.through()) {
+            let through = if light_frustum { through << LIGHT_FRUSTUM_SHIFT } else { through };
+            let step = self.clip(FloatPlane::new(*p, through));
+            if step != Step::Solid {
+                return step;
+            }
+        }
+        Step::Solid
+    }
+
+    fn clip(&mut self, plane: FloatPlane) -> Step {
+        if self.n_planes >= MAX_FAST_PLANES {
+            return Step::Uncertain;
+        }
+        let k = self.n_planes;
+        self.planes[k] = plane;
+        self.magnitude = self.magnitude.max(plane.src.magnitude());
+        let mut partners = 0;
+        if plane.through.count_ones() >= 2 {
+            for (i, p) in self.planes[..k].iter().enumerate() {
+                if (p.through & plane.through).count_ones() >= 2 && matches!(p.src, Plane::Points(_)) {
+                    partners |= 1 << i;
+                }
+            }
+        }
+        self.partners[k] = partners;
+        let (mut neg, mut pos) = (0, 0);
+        for v in 0..self.n_verts {
+            let Some(s) = self.sign_at(v, k) else { return Step::Uncertain };
+            self.sign[v] = s;
+            neg += (s < 0) as usize;
+            pos += (s > 0) as usize;
+        }
+        let bit = 1u64 << k;
+        if pos == 0 {
+            // Not cut; remember which vertices the plane touches.
+            for v in 0..self.n_verts {
+                if self.sign[v] == 0 {
+                    self.on[v] |= bit;
+                }
+            }
+            self.n_planes += 1;
+            return Step::Solid;
+        }
+        if neg == 0 {
+            // Entirely outside (empty) or touching from outside (flat).
+            return if self.sign[..self.n_verts].contains(&0) { Step::Uncertain } else { Step::Empty };
+        }
+        self.n_planes += 1;
+        self.cuts += 1;
+        if self.cut(k) {
+            Step::Solid
+        } else {
+            Step::Uncertain
+        }
+    }
+
+    /// Exact sign of vertex `v` against plane `k`, if provable.
+    fn sign_at(&mut self, v: usize, k: usize) -> Option<i8> {
+        let plane = &self.planes[k];
+        if self.is_point[v] & plane.through != 0 {
+            return Some(0);
+        }
+        let (x, r) = (self.pos[v], self.rad[v]);
+        // A point on several planes that share a line with k: any of them
+        // may decide (the point can lie close to one line and far from another).
+        let mut m = self.on[v] & self.partners[k];
+        while m != 0 {
+            let i = m.trailing_zeros() as usize;
+            m &= m - 1;
+            if let Some(fold) = self.fold(i, k) {
+                let (s, e) = fold.proxy.side(x, r);
+                if let Some(s) = decide(s, e) {
+                    return Some(s * fold.sign as i8);
+                }
+            }
+        }
+        let plane = &self.planes[k];
+        let (s, e) = plane.side(x, r);
+        if let Some(s) = decide(s, e) {
+            return Some(s);
+        }
+        if r == DVec3::ZERO {
+            // An exactly known point: the exact predicate decides.
+            return Some(point_side(&plane.src, x));
+        }
+        None
+    }
+
+    /// The fold proxy for points on plane `i` tested against plane `k`
+    /// (planes sharing a line of input points), cached per body.
+    fn fold(&mut self, i: usize, k: usize) -> Option<Fold> {
+        if let Some(f) = self.folds.iter().flatten().find(|f| f.i as usize == i && f.k as usize == k) {
+            return Some(*f);
+        }
+        let f = self.make_fold(i, k, self.planes[i].through & self.planes[k].through)?;
+        let slot = self.folds.iter().position(Option::is_none).unwrap_or(k % self.folds.len());
+        self.folds[slot] = Some(f);
+        Some(f)
+    }
+
+    fn make_fold(&self, i: usize, k: usize, common: u32) -> Option<Fold> {
+        let a_id = common.trailing_zeros() as usize;
+        let c_id = (common & (common - 1)).trailing_zeros() as usize;
+        let (a, c) = (self.points[a_id], self.points[c_id]);
+        let Plane::Points(defining) = self.planes[i].src else { return None };
+        if a == c {
+            return None;
+        }
+        // A defining point of plane i off the common line.
+        let y = *defining.iter().find(|&&p| p != a && p != c)?;
+        let proxy = line_proxy(&self.planes[i], a, c);
+        let (s, err) = proxy.side(y, DVec3::ZERO);
+        let proxy_y = decide(s, err).filter(|&s| s != 0)?;
+        let k_y = point_side(&self.planes[k].src, y);
+        if k_y == 0 {
+            return None;
+        }
+        Some(Fold { i: i as u8, k: k as u8, proxy, sign: (k_y * proxy_y) as f64 })
+    }
+
+    /// Side values of the two ends of edge `u`–`w` against plane `k`, on
+    /// one scale (the fold proxy when the edge lies in a folding plane).
+    fn edge_sides(&mut self, u: usize, w: usize, k: usize) -> [(f64, f64); 2] {
+        let common = self.on[u] & self.on[w] & self.partners[k];
+        if common != 0 {
+            if let Some(f) = self.fold(common.trailing_zeros() as usize, k) {
+                let side = |x, r| {
+                    let (s, e) = f.proxy.side(x, r);
+                    (s * f.sign, e)
+                };
+                return [side(self.pos[u], self.rad[u]), side(self.pos[w], self.rad[w])];
+            }
+        }
+        let p = &self.planes[k];
+        [p.side(self.pos[u], self.rad[u]), p.side(self.pos[w], self.rad[w])]
+    }
+
+    /// Makes the vertex where edge `u` (inside) – `w` (outside) crosses
+    /// plane `k`; false when its error cannot be bounded.
+    fn crossing(&mut self, u: usize, w: usize, k: usize, out: usize) -> bool {
+        let common = self.on[u] & self.on[w];
+        let on = common | 1 << k;
+        self.on[out] = on;
+        // Exact incidences: if every plane through the vertex passes through
+        // one input point, the vertex is that point.
+        let mut pts = u32::MAX;
+        let mut m = on;
+        while m != 0 && pts != 0 {
+            let i = m.trailing_zeros() as usize;
+            m &= m - 1;
+            pts &= self.planes[i].through;
+        }
+        if pts != 0 {
+            self.pos[out] = self.points[pts.trailing_zeros() as usize];
+            self.rad[out] = DVec3::ZERO;
+            self.is_point[out] = pts;
+            return true;
+        }
+        // A first estimate by interpolation along the edge (the side values
+        // need not be certified for this).
+        let [(su, _), (sw, _)] = self.edge_sides(u, w, k);
+        let (a, b) = ((-su).max(0.0), sw.max(0.0));
+        let t = if a + b > 0.0 { a / (a + b) } else { 0.5 };
+        let (from, to, t) = if t <= 0.5 { (u, w, t) } else { (w, u, 1.0 - t) };
+        let guess = self.pos[from] + (self.pos[to] - self.pos[from]) * t;
+        // The edge lies on two planes of `common`; with `k` they define the
+        // vertex.
+        if common.count_ones() < 2 {
+            return false;
+        }
+        let i = common.trailing_zeros() as usize;
+        let j = (common & (common - 1)).trailing_zeros() as usize;
+        let mut planes = [self.planes[i], self.planes[j], self.planes[k]];
+        for (x, y) in [(0, 1), (0, 2), (1, 2)] {
+            let shared = planes[x].through & planes[y].through;
+            if shared.count_ones() >= 2 {
+                let a = self.points[shared.trailing_zeros() as usize];
+                let c = self.points[(shared & (shared - 1)).trailing_zeros() as usize];
+                if a != c {
+                    planes[y] = line_proxy(&planes[x], a, c);
+                    break;
+                }
+            }
+        }
+        let Some((mut x, mut rad)) = Self::certify_vertex(guess, &planes) else { return false };
+        // Coordinates fixed by axis planes through the vertex are exact.
+        let mut m = on & 0x3f;
+        while m != 0 {
+            let i = m.trailing_zeros() as usize;
+            m &= m - 1;
+            let p = &self.planes[i];
+            if p.axis < 3 {
+                x[p.axis as usize] = p.value;
+                rad[p.axis as usize] = 0.0;
+            }
+        }
+        self.pos[out] = x;
+        self.rad[out] = rad;
+        self.is_point[out] = 0;
+        true
+    }
+
+    /// Improves an estimate of the point where three planes meet and proves
+    /// a per-coordinate bound on its distance from the exact point.
+    ///
+    /// Derivation: write the planes as `N x = c` (exact `N`, `c`). For the
+    /// estimate `x̃`, the exact residual `ρ = N x̃ − c` is the vector of its
+    /// side values, each known within `e` (the side bound at an exactly
+    /// known point). Then `x̃ − x* = N⁻¹ ρ`. With `M` any approximate inverse
+    /// (here: of the rounded normals) and `R = I − M N`, `‖R‖ < 1` gives
+    /// `N⁻¹ = (I − R)⁻¹ M`, hence
+    /// `|x̃ − x*| ≤ y + ‖R‖/(1 − ‖R‖)·‖y‖∞` with `y = |M| (|ρ̃| + e)`, and
+    /// `|R| ≤ |I − M Ñ| + |M| |E|` (E: the normals' error) plus rounding.
+    /// The bound follows the actual residual, so errors do not accumulate
+    /// from one clip to the next. One Newton step `x̃ − M ρ̃` first brings
+    /// the estimate within rounding of the exact point.
+    fn certify_vertex(guess: DVec3, planes: &[FloatPlane; 3]) -> Option<(DVec3, DVec3)> {
+        let [p0, p1, p2] = planes;
+        let n = DMat3::from_cols(p0.n, p1.n, p2.n).transpose();
+        let det = n.determinant();
+        if !(det.abs() > 0.0 && det.is_finite()) {
+            return None;
+        }
+        let m = n.inverse();
+        let residual = |x: DVec3| {
+            let [(a, ea), (b, eb), (c, ec)] = [p0, p1, p2].map(|p| p.side(x, DVec3::ZERO));
+            (DVec3::new(a, b, c), DVec3::new(ea, eb, ec))
+        };
+        let (rho, _) = residual(guess);
+        let x = guess - m * rho;
+        let (rho, e) = residual(x);
+        let abs = |a: DMat3| DMat3::from_cols(a.x_axis.abs(), a.y_axis.abs(), a.z_axis.abs());
+        let (am, an) = (abs(m), abs(n));
+        let en = DMat3::from_cols(p0.en, p1.en, p2.en).transpose();
+        let r = abs(DMat3::IDENTITY - m * n) * (1.0 + 4.0 * U) + am * an * (4.0 * U) + am * en;
+        let r_norm = (r.x_axis + r.y_axis + r.z_axis).max_element() * SLACK;
+        if !(r_norm < 0.5) {
+            return None;
+        }
+        let y = am * (rho.abs() + e) * SLACK;
+        let rad = (y + DVec3::splat(y.max_element() * r_norm / (1.0 - r_norm))) * SLACK;
+        (x.is_finite() && rad.is_finite()).then_some((x, rad))
+    }
+
+    /// Cuts by plane `k` (vertices on both sides, signs in `self.sign`).
+    fn cut(&mut self, k: usize) -> bool {
+        let old_n = self.n_verts;
+        let mut n_new = old_n;
+        // Edges crossed so far: (low end, high end, new vertex).
+        let mut crossed = [(0u8, 0u8, 0u8); 2 * MAX_FAST_PLANES];
+        let mut n_crossed = 0;
+        let mut cap_next = [NONE; CAP_V];
+        let (mut cap_edges, mut cap_start) = (0, NONE);
+        let mut kept = 0;
+        for f in 0..self.n_faces {
+            let face = self.faces[f];
+            let len = face.len as usize;
+            let mut cyc = [0u8; FACE_CAP];
+            let mut n = 0;
+            let mut any_inside = false;
+            for j in 0..len {
+                let (u, w) = (face.v[j] as usize, face.v[(j + 1) % len] as usize);
+                let (su, sw) = (self.sign[u], self.sign[w]);
+                if su <= 0 {
+                    cyc[n] = u as u8;
+                    n += 1;
+                    any_inside |= su < 0;
+                }
+                if su * sw < 0 {
+                    let key = (u.min(w) as u8, u.max(w) as u8);
+                    let x = match crossed[..n_crossed].iter().find(|c| (c.0, c.1) == key) {
+                        Some(c) => c.2,
+                        None => {
+                            if n_new >= CAP_V || n_crossed >= crossed.len() {
+                                return false;
+                            }
+                            let (inside, outside) = if su < 0 { (u, w) } else { (w, u) };
+                            if !self.crossing(inside, outside, k, n_new) {
+                                return false;
+                            }
+                            crossed[n_crossed] = (key.0, key.1, n_new as u8);
+                            n_crossed += 1;
+                            n_new += 1;
+                            (n_new - 1) as u8
+                        }
+                    };
+                    if n >= FACE_CAP {
+                        return false;
+                    }
+                    cyc[n] = x;
+                    n += 1;
+                }
+            }
+            if !any_inside {
+                continue;
+            }
+            // The face's edge on plane k joins its two vertices on k; the
+            // cap runs along it the other way.
+            let on_k = |v: u8| v as usize >= old_n || self.sign[v as usize] == 0;
+            for j in 0..n {
+                let (a, b) = (cyc[j], cyc[(j + 1) % n]);
+                if on_k(a) && on_k(b) {
+                    if cap_next[b as usize] != NONE {
+                        return false;
+                    }
+                    cap_next[b as usize] = a;
+                    cap_edges += 1;
+                    cap_start = b;
+                }
+            }
+            let c = &mut self.faces[kept];
+            c.plane = face.plane;
+            c.len = n as u8;
+            c.v[..n].copy_from_slice(&cyc[..n]);
+            kept += 1;
+        }
+        // The cap face, chained from the edges the faces gave it.
+        if cap_edges < 3 || kept >= MAX_FAST_PLANES || cap_edges > FACE_CAP {
+            return false;
+        }
+        let mut cap = Cycle { plane: k as u8, len: 0, v: [0; FACE_CAP] };
+        let mut v = cap_start;
+        loop {
+            if cap.len as usize >= cap_edges {
+                return false;
+            }
+            cap.v[cap.len as usize] = v;
+            cap.len += 1;
+            v = cap_next[v as usize];
+            if v == NONE {
+                return false;
+            }
+            if v == cap_start {
+                break;
+            }
+        }
+        if cap.len as usize != cap_edges {
+            return false;
+        }
+        self.faces[kept] = cap;
+        self.n_faces = kept + 1;
+        // On-plane vertices now lie on k too.
+        let bit = 1u64 << k;
+        for v in 0..old_n {
+            if self.sign[v] == 0 {
+                self.on[v] |= bit;
+            }
+        }
+        // Compact: drop the vertices outside.
+        let mut remap = [NONE; CAP_V];
+        let mut n = 0;
+        for v in 0..n_new {
+            if v >= old_n || self.sign[v] <= 0 {
+                remap[v] = n as u8;
+                self.pos[n] = self.pos[v];
+                self.rad[n] = self.rad[v];
+                self.on[n] = self.on[v];
+                self.is_point[n] = self.is_point[v];
+                n += 1;
+            }
+        }
+        self.n_verts = n;
+        for face in &mut self.faces[..self.n_faces] {
+            for x in &mut face.v[..face.len as usize] {
+                *x = remap[*x as usize];
+            }
+        }
+        true
+    }
+
+    /// Writes the solid into `out`; false (nothing written) when a vertex's
+    /// proven error exceeds the output tolerance.
+    pub(crate) fn write(&self, out: &mut Body) -> bool {
+        let tol = ROUNDING_ULPS * f64::EPSILON;
+        for v in 0..self.n_verts {
+            let (x, r) = (self.pos[v], self.rad[v]);
+            let allowed = x.abs().max(DVec3::splat(self.magnitude)) * tol;
+            if !(x.is_finite() && r.cmple(allowed).all()) {
+                return false;
+            }
+        }
+        let total: usize = self.faces[..self.n_faces].iter().map(|f| f.len as usize).sum();
+        if total > MAX_FACE_INDICES {
+            return false;
+        }
+        out.clear();
+        out.dim = 3;
+        for v in 0..self.n_verts {
+            // Adding +0 turns −0 into +0.
+            out.verts[v] = self.pos[v] + DVec3::ZERO;
+        }
+        out.n_verts = self.n_verts;
+        let mut ni = 0;
+        for (f, face) in self.faces[..self.n_faces].iter().enumerate() {
+            out.face_start[f] = ni as u16;
+            for &x in &face.v[..face.len as usize] {
+                out.idx[ni] = x as u16;
+                ni += 1;
+            }
+            out.face_planes[f] = self.planes[face.plane as usize].approximate();
+        }
+        out.face_start[self.n_faces] = ni as u16;
+        out.n_faces = self.n_faces;
+        out.volume = out.compute_volume();
+        true
+    }
+}
