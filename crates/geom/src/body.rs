@@ -324,7 +324,6 @@ pub fn focus_body(view: &Frustum, light: &Light, scene: &Aabb) -> Result<Body, G
 /// `hull(V ∪ {l})`, and those of a spot light's frustum.
 struct Plan {
     start: Aabb,
-    fast_start: Aabb,
     scene_clip_skipped: bool,
     hull: PlaneSet,
     light_planes: Option<PlaneSet>,
@@ -332,13 +331,13 @@ struct Plan {
 
 /// `None` when H is certainly empty before any clipping.
 fn plan(view: &Frustum, light: &Light, scene: &Aabb) -> Result<Option<Plan>, GeomError> {
-    let Some(b) = start_box(view, light, scene) else { return Ok(None) };
+    let Some((start, scene_clip_skipped)) = start_box(view, light, scene) else { return Ok(None) };
     let hull = view.hull_with(light.apex())?;
     let light_planes = match light {
         Light::Spot { frustum, .. } => Some(frustum.planes()),
         _ => None,
     };
-    Ok(Some(Plan { start: b.exact, fast_start: b.widened, scene_clip_skipped: b.inside_scene, hull, light_planes }))
+    Ok(Some(Plan { start, scene_clip_skipped, hull, light_planes }))
 }
 
 /// The exact engine: every decision exact, vertices kept unrounded.
@@ -353,15 +352,18 @@ fn clip_exactly(work: &mut Polytope, plan: &Plan) -> Result<(), GeomError> {
 
 /// The fast path (see [`crate::certified`]): `Uncertain` sends the case to
 /// the exact engine.
-fn clip_certified(fast: &mut CertifiedClipper, plan: &Plan, view: &Frustum, light: &Light) -> Step {
-    let (position, light_frustum) = match light {
-        Light::Directional { .. } => (None, None),
-        Light::Point { position } => (Some(*position), None),
-        Light::Spot { position, frustum } => (Some(*position), Some(frustum.corners())),
+fn clip_certified(fast: &mut CertifiedClipper, plan: &Plan, view: &Frustum, light: &Light, scene: &Aabb) -> Step {
+    let light_frustum = match light {
+        Light::Spot { frustum, .. } => Some(frustum.corners()),
+        _ => None,
     };
-    let mut step = fast.reset(&plan.fast_start, view.corners(), position, light_frustum);
-    if step == Step::Solid {
-        step = fast.clip_set(&plan.hull, false);
+    let mut step = fast.reset_to_hull(view, light.apex(), &plan.hull, scene, light_frustum);
+    // NOTE: a directional light's hull reaches past S whatever the start box
+    // says (`scene_clip_skipped` is about that box); a point light's hull
+    // lies in S when V and the light do.
+    let hull_in_scene = plan.scene_clip_skipped && !matches!(light, Light::Directional { .. });
+    if step == Step::Solid && !hull_in_scene {
+        step = fast.clip_box(scene);
     }
     if let (Step::Solid, Some(l)) = (step, &plan.light_planes) {
         step = fast.clip_set(l, true);
@@ -424,7 +426,7 @@ fn compute(out: &mut Body, view: &Frustum, light: &Light, scene: &Aabb, float_pa
     let mut answered = false;
     if float_path {
         let mut fast = out.fast.take().unwrap_or_else(|| Box::new(CertifiedClipper::new()));
-        answered = match clip_certified(&mut fast, &plan, view, light) {
+        answered = match clip_certified(&mut fast, &plan, view, light, scene) {
             Step::Empty => {
                 out.clear();
                 stats.early_exit = true;
@@ -466,7 +468,7 @@ fn compute(out: &mut Body, view: &Frustum, light: &Light, scene: &Aabb, float_pa
 /// bounds are input values, so the box is exact, and starting from it instead
 /// of S avoids making vertices far outside hull(V ∪ {l}) that later clips
 /// would only remove.
-fn start_box(view: &Frustum, light: &Light, scene: &Aabb) -> Option<StartBox> {
+fn start_box(view: &Frustum, light: &Light, scene: &Aabb) -> Option<(Aabb, bool)> {
     let corners = view.corners();
     let mut b = Aabb::around(corners).expect("eight corners");
     match *light {
@@ -486,45 +488,15 @@ fn start_box(view: &Frustum, light: &Light, scene: &Aabb) -> Option<StartBox> {
         }
     }
     let inside_scene = b.min.cmpge(scene.min).all() && b.max.cmple(scene.max).all();
-    let light_box = match light {
-        Light::Spot { frustum, .. } => Aabb::around(frustum.corners()),
-        _ => None,
-    };
-    let clipped = |b: Aabb, l: Option<Aabb>| {
-        let mut out = Aabb { min: b.min.max(scene.min), max: b.max.min(scene.max) };
-        if let Some(l) = l {
-            out.min = out.min.max(l.min);
-            out.max = out.max.min(l.max);
-        }
-        out
-    };
-    let out = clipped(b, light_box);
+    let mut out = Aabb { min: b.min.max(scene.min), max: b.max.min(scene.max) };
+    if let Light::Spot { frustum, .. } = light {
+        let l = Aabb::around(frustum.corners()).expect("eight corners");
+        out.min = out.min.max(l.min);
+        out.max = out.max.min(l.max);
+    }
     if out.min.cmple(out.max).all() {
-        Some(StartBox { exact: out, widened: clipped(widened(b), light_box.map(widened)), inside_scene })
+        Some((out, inside_scene))
     } else {
         None
     }
-}
-
-struct StartBox {
-    /// The tightest box from the inputs.
-    exact: Aabb,
-    /// The same with faces moved off the frustum corners (where S does not
-    /// bound it), for the floating-point path.
-    widened: Aabb,
-    /// `V ∪ {l} ⊆ S`.
-    inside_scene: bool,
-}
-
-/// Grows a box by a small fraction of its size. The tight box's faces pass
-/// through frustum corners and often contain whole frustum edges (a level
-/// camera's near and far edges share a coordinate): vertices made on those
-/// faces then lie exactly on frustum planes, an exact zero that floating
-/// point cannot prove. A box a little larger still contains H and still
-/// lies in S once intersected with it, so the body is unchanged.
-fn widened(b: Aabb) -> Aabb {
-    // NOTE: pad ≥ 0, so the rounded min − pad is ≤ min and max + pad ≥ max:
-    // the result contains b whatever the rounding.
-    let pad = (b.max - b.min) * (1.0 / 64.0) + b.min.abs().max(b.max.abs()) * 2f64.powi(-30);
-    Aabb { min: b.min - pad, max: b.max + pad }
 }

@@ -31,7 +31,7 @@
 //! goes to the exact engine.
 
 use crate::body::{Aabb, Body};
-use crate::frustum::PlaneSet;
+use crate::frustum::{Apex, Frustum, Origin, PlaneSet};
 use crate::plane::Plane;
 use crate::polytope::{point_side, ROUNDING_ULPS};
 use crate::{MAX_FACE_INDICES, MAX_VERTICES};
@@ -193,6 +193,16 @@ struct Cycle {
     v: [u8; FACE_CAP],
 }
 
+impl Cycle {
+    fn push(&mut self, v: u8) {
+        // Capacity: a face has fewer edges than there are planes.
+        if (self.len as usize) < FACE_CAP {
+            self.v[self.len as usize] = v;
+            self.len += 1;
+        }
+    }
+}
+
 /// How a clip ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Step {
@@ -254,11 +264,6 @@ const DUMMY_PLANE: FloatPlane = FloatPlane {
     off_bound: 0.0,
 };
 
-/// Corner index bits are (x, y, z) at max; faces CCW from outside, on
-/// planes `2·axis` (min) and `2·axis + 1` (max).
-const BOX_FACES: [(u8, [u8; 4]); 6] =
-    [(0, [0, 4, 6, 2]), (1, [1, 3, 7, 5]), (2, [0, 1, 5, 4]), (3, [2, 6, 7, 3]), (4, [0, 2, 3, 1]), (5, [4, 5, 7, 6])];
-
 impl CertifiedClipper {
     pub(crate) fn new() -> CertifiedClipper {
         CertifiedClipper {
@@ -280,51 +285,221 @@ impl CertifiedClipper {
         }
     }
 
-    /// Starts from a solid box; `points` are the input points planes may be
-    /// defined through (see `N_POINTS`). Returns `Uncertain` for a flat box.
-    pub(crate) fn reset(&mut self, b: &Aabb, view: &[DVec3; 8], light: Option<DVec3>, light_frustum: Option<&[DVec3; 8]>) -> Step {
+    /// Starts from `hull(V ∪ {l})` itself, built from the exact beneath–
+    /// beyond signs behind `hull`: its vertices are frustum corners and the
+    /// light, all exact input points. A directional light's unbounded hull is
+    /// closed by a plane beyond the scene box and the frustum, which cuts
+    /// nothing of `H`. `Uncertain` when some face plane contains the light
+    /// (the faces are then not all distinct planes).
+    pub(crate) fn reset_to_hull(
+        &mut self,
+        view: &Frustum,
+        apex: Apex,
+        hull: &PlaneSet,
+        scene: &Aabb,
+        light_frustum: Option<&[DVec3; 8]>,
+    ) -> Step {
         self.n_planes = 0;
         self.n_faces = 0;
         self.n_verts = 0;
         self.cuts = 0;
         self.folds = [None; 4];
-        if !(b.min.is_finite() && b.max.is_finite()) || (0..3).any(|k| b.min[k] >= b.max[k]) {
+        if hull.apex_coplanar || hull.as_slice().len() + 1 > MAX_FAST_PLANES {
             return Step::Uncertain;
         }
-        self.points[..8].copy_from_slice(view);
-        self.points[8] = light.unwrap_or(DVec3::NAN);
+        let corners = view.corners();
+        self.points[..8].copy_from_slice(corners);
+        self.points[8] = match apex {
+            Apex::Finite(l) => l,
+            Apex::Infinite(_) => DVec3::NAN,
+        };
         match light_frustum {
             Some(c) => self.points[9..].copy_from_slice(c),
             None => self.points[9..].fill(DVec3::NAN),
         }
-        self.magnitude = b.min.abs().max(b.max.abs()).max_element();
+        self.magnitude = scene.min.abs().max(scene.max.abs()).max_element();
+        for p in &self.points {
+            if p.is_finite() {
+                self.magnitude = self.magnitude.max(p.abs().max_element());
+            }
+        }
+        // Vertex ids of the input points (frustum corners 0–7, light 8) and
+        // of the corners' shadows on the closing plane (directional light).
+        let mut vid = [NONE; 9];
+        let mut shadow = [NONE; 8];
+        for (p, (&plane, &through)) in hull.as_slice().iter().zip(hull.through()).enumerate() {
+            self.planes[p] = FloatPlane::new(plane, through);
+            self.partners[p] = 0;
+        }
+        self.n_planes = hull.as_slice().len();
+        let closing = match apex {
+            Apex::Finite(_) => None,
+            Apex::Infinite(toward) => match self.closing_plane(toward, scene, corners) {
+                Some(c) => Some(c),
+                None => return Step::Uncertain,
+            },
+        };
+        for (p, origin) in hull.origins().iter().enumerate() {
+            let mut cycle = Cycle { plane: p as u8, len: 0, v: [0; FACE_CAP] };
+            match *origin {
+                Origin::Face(f) => {
+                    for &c in view.face(f as usize) {
+                        cycle.push(self.input_vertex(&mut vid, c as usize));
+                    }
+                }
+                Origin::Horizon(a, b) => {
+                    let (va, vb) = (self.input_vertex(&mut vid, a as usize), self.input_vertex(&mut vid, b as usize));
+                    cycle.push(va);
+                    cycle.push(vb);
+                    match closing {
+                        None => cycle.push(self.input_vertex(&mut vid, 8)),
+                        Some(cap) => {
+                            for c in [b, a] {
+                                if shadow[c as usize] == NONE {
+                                    let Some(v) = self.shadow_vertex(hull, c, cap) else { return Step::Uncertain };
+                                    shadow[c as usize] = v;
+                                }
+                                cycle.push(shadow[c as usize]);
+                            }
+                        }
+                    }
+                }
+            }
+            for &v in &cycle.v[..cycle.len as usize] {
+                self.on[v as usize] |= 1 << p;
+            }
+            self.faces[self.n_faces] = cycle;
+            self.n_faces += 1;
+        }
+        if let Some(cap) = closing {
+            // Each side face a, b, b′, a′ has the cap edge b′ → a′; the cap
+            // runs along it the other way.
+            let mut next = [NONE; CAP_V];
+            let mut count = 0;
+            for origin in hull.origins() {
+                if let Origin::Horizon(a, b) = *origin {
+                    next[shadow[a as usize] as usize] = shadow[b as usize];
+                    count += 1;
+                }
+            }
+            let mut cycle = Cycle { plane: cap as u8, len: 0, v: [0; FACE_CAP] };
+            let start = shadow.iter().copied().find(|&v| v != NONE).unwrap_or(NONE);
+            let mut v = start;
+            while v != NONE && (cycle.len as usize) < count {
+                cycle.push(v);
+                v = next[v as usize];
+                if v == start {
+                    break;
+                }
+            }
+            if v != start || cycle.len as usize != count || count < 3 {
+                return Step::Uncertain;
+            }
+            self.faces[self.n_faces] = cycle;
+            self.n_faces += 1;
+        }
+        Step::Solid
+    }
+
+    /// The vertex for input point `i` (made on first use, exact).
+    fn input_vertex(&mut self, vid: &mut [u8; 9], i: usize) -> u8 {
+        if vid[i] == NONE {
+            let v = self.n_verts;
+            self.pos[v] = self.points[i];
+            self.rad[v] = DVec3::ZERO;
+            self.on[v] = 0;
+            self.is_point[v] = 1 << i;
+            self.n_verts += 1;
+            vid[i] = v as u8;
+        }
+        vid[i]
+    }
+
+    /// A plane `g · x ≤ h` (g toward the light) beyond every frustum corner
+    /// and scene corner; appended to the planes, its index returned.
+    fn closing_plane(&mut self, toward: DVec3, scene: &Aabb, corners: &[DVec3; 8]) -> Option<usize> {
+        // NOTE: each g · x is within 3u·(|g|·|x|) of the exact value; the
+        // highest value plus its error, padded by 1/64 of the spread (so the
+        // plane passes near no corner) and rounded up once more, is beyond
+        // every corner exactly.
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        let ga = toward.abs();
+        for i in 0..16 {
+            let x = if i < 8 {
+                corners[i]
+            } else {
+                let j = i - 8;
+                DVec3::new(
+                    if j & 1 != 0 { scene.max.x } else { scene.min.x },
+                    if j & 2 != 0 { scene.max.y } else { scene.min.y },
+                    if j & 4 != 0 { scene.max.z } else { scene.min.z },
+                )
+            };
+            let v = toward.dot(x);
+            let err = 4.0 * U * ga.dot(x.abs());
+            lo = lo.min(v - err);
+            hi = hi.max(v + err);
+        }
+        let h = hi + (hi - lo) * (1.0 / 64.0);
+        let h = h + h.abs() * (4.0 * U) + f64::MIN_POSITIVE;
+        if !(h.is_finite() && h > hi) {
+            return None;
+        }
+        let k = self.n_planes;
+        if k >= MAX_FAST_PLANES {
+            return None;
+        }
+        self.planes[k] = FloatPlane::new(Plane::Coefficients { normal: toward, offset: -h }, 0);
+        self.partners[k] = 0;
+        self.n_planes += 1;
+        Some(k)
+    }
+
+    /// Where the light's ray through frustum corner `c` meets the closing
+    /// plane: on the two horizon planes through `c` and the closing plane.
+    fn shadow_vertex(&mut self, hull: &PlaneSet, c: u8, cap: usize) -> Option<u8> {
+        let mut sides = [0usize; 2];
+        let mut n = 0;
+        for (p, origin) in hull.origins().iter().enumerate() {
+            if let Origin::Horizon(a, b) = *origin {
+                if a == c || b == c {
+                    if n == 2 {
+                        return None;
+                    }
+                    sides[n] = p;
+                    n += 1;
+                }
+            }
+        }
+        if n != 2 || self.n_verts >= CAP_V {
+            return None;
+        }
+        let g = self.planes[cap].n;
+        let h = -self.planes[cap].offset;
+        let x = self.points[c as usize];
+        let guess = x + g * ((h - g.dot(x)) / g.dot(g));
+        let planes = [self.planes[sides[0]], self.planes[sides[1]], self.planes[cap]];
+        let (pos, rad) = Self::certify_vertex(guess, &planes)?;
+        let v = self.n_verts;
+        self.pos[v] = pos;
+        self.rad[v] = rad;
+        self.on[v] = 1 << cap;
+        self.is_point[v] = 0;
+        self.n_verts += 1;
+        Some(v as u8)
+    }
+
+    /// Clips by the six faces of a box.
+    pub(crate) fn clip_box(&mut self, b: &Aabb) -> Step {
         for axis in 0..3u8 {
             for upper in [false, true] {
                 let value = if upper { b.max[axis as usize] } else { b.min[axis as usize] };
-                self.planes[self.n_planes] = FloatPlane::new(Plane::Axis { axis, upper, value }, 0);
-                self.n_planes += 1;
+                let step = self.clip(FloatPlane::new(Plane::Axis { axis, upper, value }, 0));
+                if step != Step::Solid {
+                    return step;
+                }
             }
         }
-        for i in 0..8usize {
-            let x = DVec3::new(
-                if i & 1 != 0 { b.max.x } else { b.min.x },
-                if i & 2 != 0 { b.max.y } else { b.min.y },
-                if i & 4 != 0 { b.max.z } else { b.min.z },
-            );
-            self.pos[i] = x;
-            self.rad[i] = DVec3::ZERO;
-            self.on[i] = 1 << (i & 1) | 1 << (2 + ((i >> 1) & 1)) | 1 << (4 + ((i >> 2) & 1));
-            // A box corner equal to a frustum corner or the light inherits
-            // that point's incidences.
-            self.is_point[i] = (0..9).filter(|&j| self.points[j] == x).fold(0, |m, j| m | 1 << j);
-        }
-        self.n_verts = 8;
-        for (f, (plane, cycle)) in BOX_FACES.iter().enumerate() {
-            let mut c = Cycle { plane: *plane, len: 4, v: [0; FACE_CAP] };
-            c.v[..4].copy_from_slice(cycle);
-            self.faces[f] = c;
-        }
-        self.n_faces = 6;
         Step::Solid
     }
 

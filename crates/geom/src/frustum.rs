@@ -46,10 +46,24 @@ pub enum Apex {
 /// Bit of the hull apex in [`PlaneSet::through`] (bits 0–7 are corners).
 pub(crate) const APEX_BIT: u32 = 1 << 8;
 
+/// Where a plane of a [`PlaneSet`] comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Origin {
+    /// Face `i` of the frustum.
+    Face(u8),
+    /// The horizon edge `a → b` (as oriented in a face that sees the apex)
+    /// joined to the apex.
+    Horizon(u8, u8),
+}
+
 /// A fixed-capacity list of halfspaces.
 #[derive(Clone, Copy, Debug)]
 pub struct PlaneSet {
     planes: [Plane; 2 * MAX_FRUSTUM_FACES],
+    origin: [Origin; 2 * MAX_FRUSTUM_FACES],
+    /// Some face's plane contains the apex (the hull's faces are then not
+    /// all distinct planes).
+    pub(crate) apex_coplanar: bool,
     /// Per plane, the frustum corners (bits 0–7) and the finite hull apex
     /// ([`APEX_BIT`]) it passes through by construction: exact incidences
     /// known without arithmetic.
@@ -62,14 +76,20 @@ impl PlaneSet {
         PlaneSet {
             planes: [Plane::Axis { axis: 0, upper: true, value: 0.0 }; 2 * MAX_FRUSTUM_FACES],
             through: [0; 2 * MAX_FRUSTUM_FACES],
+            origin: [Origin::Face(0); 2 * MAX_FRUSTUM_FACES],
+            apex_coplanar: false,
             len: 0,
         }
     }
-    fn push(&mut self, p: Plane, through: u32) {
+    fn push(&mut self, p: Plane, through: u32, origin: Origin) {
         // Capacity: kept faces + horizon edges ≤ 12 + 12 for a frustum hull.
         self.planes[self.len] = p;
         self.through[self.len] = through;
+        self.origin[self.len] = origin;
         self.len += 1;
+    }
+    pub(crate) fn origins(&self) -> &[Origin] {
+        &self.origin[..self.len]
     }
     pub fn as_slice(&self) -> &[Plane] {
         &self.planes[..self.len]
@@ -210,7 +230,8 @@ impl Frustum {
         self.n_faces += 1;
     }
 
-    fn face(&self, i: usize) -> &[u8] {
+    /// Face `i` as corner indices, counter-clockwise from outside.
+    pub(crate) fn face(&self, i: usize) -> &[u8] {
         &self.faces[i][..self.faces_len[i] as usize]
     }
 
@@ -232,7 +253,7 @@ impl Frustum {
     pub fn planes(&self) -> PlaneSet {
         let mut out = PlaneSet::new();
         for i in 0..self.face_count() {
-            out.push(self.face_plane(i), corner_bits(self.face(i)));
+            out.push(self.face_plane(i), corner_bits(self.face(i)), Origin::Face(i as u8));
         }
         out
     }
@@ -261,18 +282,20 @@ impl Frustum {
         }
         let n = self.face_count();
         let mut sees = [false; MAX_FRUSTUM_FACES];
+        let mut out = PlaneSet::new();
         for (i, seen) in sees.iter_mut().enumerate().take(n) {
             let f = self.face(i);
             let [a, b, c] = [self.corners[f[0] as usize], self.corners[f[1] as usize], self.corners[f[2] as usize]];
-            *seen = match apex {
-                Apex::Finite(l) => orient(a, b, c, l) > 0,
-                Apex::Infinite(dir) => orient_direction(a, b, c, dir) > 0,
+            let side = match apex {
+                Apex::Finite(l) => orient(a, b, c, l),
+                Apex::Infinite(dir) => orient_direction(a, b, c, dir),
             };
+            *seen = side > 0;
+            out.apex_coplanar |= side == 0;
         }
-        let mut out = PlaneSet::new();
         for i in 0..n {
             if !sees[i] {
-                out.push(self.face_plane(i), corner_bits(self.face(i)));
+                out.push(self.face_plane(i), corner_bits(self.face(i)), Origin::Face(i as u8));
                 continue;
             }
             let f = self.face(i);
@@ -285,7 +308,7 @@ impl Frustum {
                             Apex::Finite(l) => (Plane::Points([pa, pb, l]), APEX_BIT),
                             Apex::Infinite(direction) => (Plane::PointsDirection { p: pa, q: pb, direction }, 0),
                         };
-                        out.push(plane, corner_bits(&[a, b]) | apex_bit);
+                        out.push(plane, corner_bits(&[a, b]) | apex_bit, Origin::Horizon(a, b));
                     }
                 }
             }
