@@ -170,6 +170,24 @@ fn line_proxy(p: &FloatPlane, a: DVec3, c: DVec3) -> FloatPlane {
     FloatPlane::general(Plane::Coefficients { normal: DVec3::ZERO, offset: 0.0 }, e.cross(p.n), en, a, 0.0, 0)
 }
 
+/// Where the line `a + t·d` (exact `a`; `d` an exact direction or a rounded
+/// difference of two exact points) meets the plane `x[axis] = value`.
+fn line_axis_crossing(a: DVec3, d: DVec3, axis: usize, value: f64) -> Option<(DVec3, DVec3)> {
+    if d[axis] == 0.0 {
+        return None;
+    }
+    // NOTE: t = (value − a_k)/d_k carries at most three roundings (the two
+    // differences and the quotient), so |t̃ − t| ≤ 3u|t| (plus second order);
+    // x_m = a_m + t·d_m then adds two more of |t·d_m| and one of |x_m|.
+    let t = (value - a[axis]) / d[axis];
+    let td = d * t;
+    let mut x = a + td;
+    x[axis] = value;
+    let mut rad = (td.abs() * (6.0 * U) + x.abs() * (2.0 * U)) * SLACK + DVec3::splat(1e-300);
+    rad[axis] = 0.0;
+    (x.is_finite() && rad.is_finite()).then_some((x, rad))
+}
+
 /// A sign proven by `(value, bound)`; `bound == 0` means the value is exact.
 #[inline]
 fn decide(s: f64, e: f64) -> Option<i8> {
@@ -665,6 +683,11 @@ impl CertifiedClipper {
             self.is_point[out] = pts;
             return true;
         }
+        if self.planes[k].axis < 3 {
+            if let Some((x, rad)) = self.axis_crossing(common, k) {
+                return self.place(out, on, x, rad);
+            }
+        }
         // A first estimate by interpolation along the edge (the side values
         // need not be certified for this).
         let [(su, _), (sw, _)] = self.edge_sides(u, w, k);
@@ -691,9 +714,14 @@ impl CertifiedClipper {
                 }
             }
         }
-        let Some((mut x, mut rad)) = Self::certify_vertex(guess, &planes) else { return false };
-        // Coordinates fixed by axis planes through the vertex are exact.
-        let mut m = on & 0x3f;
+        let Some((x, rad)) = Self::certify_vertex(guess, &planes) else { return false };
+        self.place(out, on, x, rad)
+    }
+
+    /// Stores vertex `out` (on the planes `on`), making the coordinates that
+    /// axis planes through it fix exact.
+    fn place(&mut self, out: usize, on: u64, mut x: DVec3, mut rad: DVec3) -> bool {
+        let mut m = on;
         while m != 0 {
             let i = m.trailing_zeros() as usize;
             m &= m - 1;
@@ -706,7 +734,93 @@ impl CertifiedClipper {
         self.pos[out] = x;
         self.rad[out] = rad;
         self.is_point[out] = 0;
-        true
+        rad.is_finite() && x.is_finite()
+    }
+
+    /// Where an edge on the planes `common` crosses axis plane `k`, with an
+    /// a priori error bound, when the edge lies on a line the inputs define:
+    /// - two axis planes: the vertex is exact;
+    /// - an axis plane and a general plane: one coordinate from the plane;
+    /// - two planes sharing two input points `a`, `b` (or one input point
+    ///   and the light's direction): `a + t·(b − a)` with
+    ///   `t = (value − a_k)/(b_k − a_k)`.
+    ///
+    /// `None` when no such description applies.
+    fn axis_crossing(&self, common: u64, k: usize) -> Option<(DVec3, DVec3)> {
+        let kp = &self.planes[k];
+        let axis = kp.axis as usize;
+        let (mut first_axis, mut general) = (None, None);
+        let mut m = common;
+        while m != 0 {
+            let i = m.trailing_zeros() as usize;
+            m &= m - 1;
+            let p = &self.planes[i];
+            if p.axis < 3 && p.axis as usize != axis {
+                match first_axis {
+                    None => first_axis = Some(i),
+                    Some(f) if self.planes[f].axis != p.axis => {
+                        // Three axis planes: an exact point (coordinates set by `place`).
+                        return Some((DVec3::ZERO, DVec3::ZERO));
+                    }
+                    Some(_) => {}
+                }
+            } else if p.axis == 3 && general.is_none() {
+                general = Some(i);
+            }
+        }
+        if let (Some(f), Some(g)) = (first_axis, general) {
+            return self.crossing_on_plane(g, [k, f]);
+        }
+        // An input line: two planes of `common` sharing two input points, or
+        // one point and the light's direction.
+        let mut m = common;
+        while m != 0 {
+            let i = m.trailing_zeros() as usize;
+            m &= m - 1;
+            let mut rest = m;
+            while rest != 0 {
+                let j = rest.trailing_zeros() as usize;
+                rest &= rest - 1;
+                let shared = self.planes[i].through & self.planes[j].through;
+                let a = self.points[shared.trailing_zeros() as usize % N_POINTS];
+                let d = match (shared.count_ones(), self.planes[i].src, self.planes[j].src) {
+                    (0, ..) => continue,
+                    (1, Plane::PointsDirection { direction: u, .. }, Plane::PointsDirection { direction: v, .. }) if u == v => u,
+                    (1, ..) => continue,
+                    _ => self.points[(shared & (shared - 1)).trailing_zeros() as usize] - a,
+                };
+                return line_axis_crossing(a, d, axis, kp.value);
+            }
+        }
+        None
+    }
+
+    /// The point on general plane `g` whose coordinates on the axes of the
+    /// two axis planes `fixed` are their values.
+    fn crossing_on_plane(&self, g: usize, fixed: [usize; 2]) -> Option<(DVec3, DVec3)> {
+        let p = &self.planes[g];
+        let [k1, k2] = fixed.map(|f| self.planes[f].axis as usize);
+        let j = 3 - k1 - k2;
+        let mut x = DVec3::ZERO;
+        x[k1] = self.planes[fixed[0]].value;
+        x[k2] = self.planes[fixed[1]].value;
+        // NOTE: n_j (x_j − a_j) = −q with q = Σ_{m≠j} n_m (x_m − a_m) + offset.
+        // q's error: the normal's (en·|w|) and 5u of its terms' absolute sum;
+        // dividing by ñ_j (within en_j) adds |q/n_j|·en_j over |ñ_j| − en_j.
+        let (w1, w2) = (x[k1] - p.anchor[k1], x[k2] - p.anchor[k2]);
+        let q = p.n[k1] * w1 + p.n[k2] * w2 + p.offset;
+        let eq = p.en[k1] * w1.abs()
+            + p.en[k2] * w2.abs()
+            + 5.0 * U * ((p.n[k1] * w1).abs() + (p.n[k2] * w2).abs() + p.offset.abs());
+        let (nj, enj) = (p.n[j].abs(), p.en[j]);
+        if !(nj > 2.0 * enj) {
+            return None;
+        }
+        let step = q / p.n[j];
+        x[j] = p.anchor[j] - step;
+        let mut rad = DVec3::ZERO;
+        rad[j] = ((eq + step.abs() * enj) / (nj - enj) + 2.0 * U * step.abs() + U * x[j].abs()) * SLACK + 1e-300;
+        Some((x, rad))
     }
 
     /// Improves an estimate of the point where three planes meet and proves
