@@ -1,13 +1,15 @@
 //! Frustum, light and box constructors and `focus_body` on arbitrary
 //! numbers: never a panic; on success, a body whose counts match its
-//! dimension, with finite vertices near S, and the same result when a
-//! `Body` is reused.
+//! dimension, with finite vertices near S, the same body as the exact engine
+//! alone gives, and the same result when a `Body` is reused.
 #![no_main]
 
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
 use shadowfocus_fuzz::{magnitude, FrustumIn, LightIn, SceneIn};
-use shadowfocus_geom::{focus_body, focus_body_into, Aabb, Body, DVec3, Dimension, Light, ROUNDING_ULPS};
+use shadowfocus_geom::{
+    focus_body, focus_body_exact_into, focus_body_into, Aabb, Body, DVec3, Dimension, Frustum, Light, ROUNDING_ULPS,
+};
 use std::cell::RefCell;
 
 #[derive(Arbitrary, Debug)]
@@ -62,6 +64,21 @@ fn check(body: &Body, scene: &Aabb, tol: f64) {
     }
 }
 
+/// The floating-point path (when it answered) and the exact engine give the
+/// same body: dimension, vertex count and face sizes.
+fn check_against_exact_engine(body: &Body, view: &Frustum, light: &Light, scene: &Aabb) {
+    let mut reference = Body::new();
+    focus_body_exact_into(&mut reference, view, light, scene).expect("the exact engine accepts what the fast path accepted");
+    assert_eq!(body.dimension(), reference.dimension(), "float path {}", body.stats().float_path);
+    assert_eq!(body.vertices().len(), reference.vertices().len(), "float path {}", body.stats().float_path);
+    let sizes = |b: &Body| {
+        let mut v: Vec<usize> = b.faces().map(|f| f.len()).collect();
+        v.sort_unstable();
+        v
+    };
+    assert_eq!(sizes(body), sizes(&reference));
+}
+
 fuzz_target!(|input: Input| {
     let Ok(view) = input.view.build() else { return };
     let light = input.light.build(&view, &input.view);
@@ -85,6 +102,7 @@ fuzz_target!(|input: Input| {
     }
     let tol = ROUNDING_ULPS * f64::EPSILON * magnitude(&pts);
     check(&body, &scene, tol);
+    check_against_exact_engine(&body, &view, &light, &scene);
 
     REUSED.with(|r| {
         let mut r = r.borrow_mut();

@@ -225,8 +225,9 @@ pub fn run_case(c: &StressCase) -> StressOutcome {
         Ok(body) => {
             o.dimension = body.dimension().as_i32();
             o.vertices = body.vertices().len();
+            let exact = body.exact();
             for p in &corners {
-                if !body.exact().is_some_and(|h| h.contains_point(*p)) {
+                if !exact.as_ref().is_some_and(|h| h.contains_point(*p)) {
                     o.exact_violations += 1;
                 }
                 for pl in body.face_planes() {
