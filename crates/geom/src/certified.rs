@@ -170,21 +170,41 @@ fn line_proxy(p: &FloatPlane, a: DVec3, c: DVec3) -> FloatPlane {
     FloatPlane::general(Plane::Coefficients { normal: DVec3::ZERO, offset: 0.0 }, e.cross(p.n), en, a, 0.0, 0)
 }
 
-/// Where the line `a + t·d` (exact `a`; `d` an exact direction or a rounded
-/// difference of two exact points) meets the plane `x[axis] = value`.
-fn line_axis_crossing(a: DVec3, d: DVec3, axis: usize, value: f64) -> Option<(DVec3, DVec3)> {
-    if d[axis] == 0.0 {
+/// Where the line `a + t·d` meets a plane: `a` exact, `d` exact or the
+/// rounded difference of two exact points (`d_rounded`).
+fn line_crossing(a: DVec3, d: DVec3, d_rounded: bool, p: &FloatPlane) -> Option<(DVec3, DVec3)> {
+    if p.axis < 3 {
+        let axis = p.axis as usize;
+        if d[axis] == 0.0 {
+            return None;
+        }
+        // NOTE: t = (value − a_k)/d_k carries at most three roundings (the
+        // two differences and the quotient), so |t̃ − t| ≤ 3u|t| (plus second
+        // order); x_m = a_m + t·d_m adds two more of |t·d_m| and one of |x_m|.
+        let t = (p.value - a[axis]) / d[axis];
+        let td = d * t;
+        let mut x = a + td;
+        x[axis] = p.value;
+        let mut rad = (td.abs() * (6.0 * U) + x.abs() * (2.0 * U)) * SLACK + DVec3::splat(1e-300);
+        rad[axis] = 0.0;
+        return (x.is_finite() && rad.is_finite()).then_some((x, rad));
+    }
+    // NOTE: t = −P(a)/(n·d). P(a) is known within e_q (the side bound at an
+    // exact point); n·d within e_δ = en·|d| + 4u·|n|·|d| (+2u|n|·|d| when d
+    // is a rounded difference). Then |t̃ − t| ≤ (e_q + |t̃|·e_δ)/(|δ̃| − e_δ)
+    // + 2u|t̃|, and x = a + t·d adds |d|·|t̃ − t| and the final roundings.
+    let (q, eq) = p.side(a, DVec3::ZERO);
+    let delta = p.n.dot(d);
+    let (na, da) = (p.n.abs(), d.abs());
+    let ed = (p.en.dot(da) + na.dot(da) * if d_rounded { 6.0 * U } else { 4.0 * U }) * SLACK;
+    if !(delta.abs() > 2.0 * ed) {
         return None;
     }
-    // NOTE: t = (value − a_k)/d_k carries at most three roundings (the two
-    // differences and the quotient), so |t̃ − t| ≤ 3u|t| (plus second order);
-    // x_m = a_m + t·d_m then adds two more of |t·d_m| and one of |x_m|.
-    let t = (value - a[axis]) / d[axis];
+    let t = -q / delta;
+    let et = (eq + t.abs() * ed) / (delta.abs() - ed) + 2.0 * U * t.abs();
     let td = d * t;
-    let mut x = a + td;
-    x[axis] = value;
-    let mut rad = (td.abs() * (6.0 * U) + x.abs() * (2.0 * U)) * SLACK + DVec3::splat(1e-300);
-    rad[axis] = 0.0;
+    let x = a + td;
+    let rad = (da * et * (1.0 + 4.0 * U) + td.abs() * (4.0 * U) + x.abs() * (2.0 * U)) * SLACK + DVec3::splat(1e-300);
     (x.is_finite() && rad.is_finite()).then_some((x, rad))
 }
 
@@ -492,12 +512,8 @@ impl CertifiedClipper {
         if n != 2 || self.n_verts >= CAP_V {
             return None;
         }
-        let g = self.planes[cap].n;
-        let h = -self.planes[cap].offset;
-        let x = self.points[c as usize];
-        let guess = x + g * ((h - g.dot(x)) / g.dot(g));
-        let planes = [self.planes[sides[0]], self.planes[sides[1]], self.planes[cap]];
-        let (pos, rad) = Self::certify_vertex(guess, &planes)?;
+        // On the ray from the corner toward the light (both exact).
+        let (pos, rad) = line_crossing(self.points[c as usize], self.planes[cap].n, false, &self.planes[cap])?;
         let v = self.n_verts;
         self.pos[v] = pos;
         self.rad[v] = rad;
@@ -551,11 +567,25 @@ impl CertifiedClipper {
         }
         self.partners[k] = partners;
         let (mut neg, mut pos) = (0, 0);
-        for v in 0..self.n_verts {
-            let Some(s) = self.sign_at(v, k) else { return Step::Uncertain };
-            self.sign[v] = s;
-            neg += (s < 0) as usize;
-            pos += (s > 0) as usize;
+        if plane.axis < 3 {
+            // An axis plane has no input points and no fold partners: its
+            // sign is a comparison, exact where the coordinate is.
+            let (a, value) = (plane.axis as usize, plane.value);
+            let flip = if plane.upper { 1.0 } else { -1.0 };
+            for v in 0..self.n_verts {
+                let s = (self.pos[v][a] - value) * flip;
+                let Some(s) = decide(s, self.rad[v][a] * SLACK + 2.0 * U * s.abs()) else { return Step::Uncertain };
+                self.sign[v] = s;
+                neg += (s < 0) as usize;
+                pos += (s > 0) as usize;
+            }
+        } else {
+            for v in 0..self.n_verts {
+                let Some(s) = self.sign_at(v, k) else { return Step::Uncertain };
+                self.sign[v] = s;
+                neg += (s < 0) as usize;
+                pos += (s > 0) as usize;
+            }
         }
         let bit = 1u64 << k;
         if pos == 0 {
@@ -683,10 +713,8 @@ impl CertifiedClipper {
             self.is_point[out] = pts;
             return true;
         }
-        if self.planes[k].axis < 3 {
-            if let Some((x, rad)) = self.axis_crossing(common, k) {
-                return self.place(out, on, x, rad);
-            }
+        if let Some((x, rad)) = self.structured_crossing(common, k) {
+            return self.place(out, on, x, rad);
         }
         // A first estimate by interpolation along the edge (the side values
         // need not be certified for this).
@@ -737,20 +765,20 @@ impl CertifiedClipper {
         rad.is_finite() && x.is_finite()
     }
 
-    /// Where an edge on the planes `common` crosses axis plane `k`, with an
-    /// a priori error bound, when the edge lies on a line the inputs define:
-    /// - two axis planes: the vertex is exact;
-    /// - an axis plane and a general plane: one coordinate from the plane;
-    /// - two planes sharing two input points `a`, `b` (or one input point
-    ///   and the light's direction): `a + t·(b − a)` with
-    ///   `t = (value − a_k)/(b_k − a_k)`.
+    /// Where an edge on the planes `common` crosses plane `k`, with an a
+    /// priori error bound, when the edge lies on a line the inputs define:
+    /// - `k` and two more axis planes: the vertex is exact;
+    /// - `k` and one more axis plane, and a general plane: one coordinate
+    ///   from the plane;
+    /// - two planes sharing two input points `a`, `b` (or one input point and
+    ///   the light's direction): the line `a + t·(b − a)` meets plane `k`.
     ///
     /// `None` when no such description applies.
-    fn axis_crossing(&self, common: u64, k: usize) -> Option<(DVec3, DVec3)> {
+    fn structured_crossing(&self, common: u64, k: usize) -> Option<(DVec3, DVec3)> {
         let kp = &self.planes[k];
         let axis = kp.axis as usize;
         let (mut first_axis, mut general) = (None, None);
-        let mut m = common;
+        let mut m = if kp.axis < 3 { common } else { 0 };
         while m != 0 {
             let i = m.trailing_zeros() as usize;
             m &= m - 1;
@@ -789,7 +817,7 @@ impl CertifiedClipper {
                     (1, ..) => continue,
                     _ => self.points[(shared & (shared - 1)).trailing_zeros() as usize] - a,
                 };
-                return line_axis_crossing(a, d, axis, kp.value);
+                return line_crossing(a, d, shared.count_ones() >= 2, kp);
             }
         }
         None
@@ -882,7 +910,7 @@ impl CertifiedClipper {
             let mut n = 0;
             let mut any_inside = false;
             for j in 0..len {
-                let (u, w) = (face.v[j] as usize, face.v[(j + 1) % len] as usize);
+                let (u, w) = (face.v[j] as usize, face.v[if j + 1 == len { 0 } else { j + 1 }] as usize);
                 let (su, sw) = (self.sign[u], self.sign[w]);
                 if su <= 0 {
                     cyc[n] = u as u8;
@@ -920,8 +948,8 @@ impl CertifiedClipper {
             // The face's edge on plane k joins its two vertices on k; the
             // cap runs along it the other way.
             let on_k = |v: u8| v as usize >= old_n || self.sign[v as usize] == 0;
-            for j in 0..n {
-                let (a, b) = (cyc[j], cyc[(j + 1) % n]);
+            let mut a = cyc[n - 1];
+            for &b in &cyc[..n] {
                 if on_k(a) && on_k(b) {
                     if cap_next[b as usize] != NONE {
                         return false;
@@ -930,6 +958,7 @@ impl CertifiedClipper {
                     cap_edges += 1;
                     cap_start = b;
                 }
+                a = b;
             }
             let c = &mut self.faces[kept];
             c.plane = face.plane;
