@@ -2,7 +2,7 @@
 
 use super::case::{parse_case, Case};
 use serde_json::{json, Value};
-use shadowfocus_geom::{focus_body_into, Body, Frustum};
+use shadowfocus_geom::{focus_body_exact_into, focus_body_into, Body, Frustum};
 use std::io::{BufRead, Write};
 use std::time::Instant;
 
@@ -90,7 +90,7 @@ pub fn bench(input: impl BufRead) -> std::io::Result<Value> {
     let mut body_ns = Vec::with_capacity(cases.len());
     let mut with_frustum_ns = Vec::with_capacity(cases.len());
     let mut exact_cases = 0;
-    let (mut float_ns, mut engine_ns) = (Vec::new(), Vec::new());
+    let (mut float_ns, mut engine_ns, mut exact_only_ns) = (Vec::new(), Vec::new(), Vec::new());
     for case in &cases {
         let _ = focus_body_into(&mut body, &case.view, &case.light, &case.scene);
         exact_cases += (body.stats().exact_evaluations > 0) as usize;
@@ -100,6 +100,9 @@ pub fn bench(input: impl BufRead) -> std::io::Result<Value> {
         });
         body_ns.push(ns);
         if on_float_path { &mut float_ns } else { &mut engine_ns }.push(ns);
+        exact_only_ns.push(case_median_ns(|| {
+            let _ = focus_body_exact_into(&mut body, &case.view, &case.light, &case.scene);
+        }));
         let corners = *case.view.corners();
         with_frustum_ns.push(case_median_ns(|| {
             if let Ok(view) = Frustum::from_corners(std::hint::black_box(corners)) {
@@ -119,6 +122,7 @@ pub fn bench(input: impl BufRead) -> std::io::Result<Value> {
         "p99_ns": p99(&mut body_ns),
         "with_frustum_validation_median_ns": med_f,
         "with_frustum_validation_p99_ns": p99(&mut with_frustum_ns),
+        "exact_engine_only_median_ns": if n > 0 { median(&mut exact_only_ns) } else { 0.0 },
         "cases_on_float_path": float_ns.len(),
         "float_path_median_ns": if float_ns.is_empty() { 0.0 } else { median(&mut float_ns) },
         "exact_engine_median_ns": if engine_ns.is_empty() { 0.0 } else { median(&mut engine_ns) },

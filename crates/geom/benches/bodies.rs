@@ -7,7 +7,7 @@
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glam::DVec3;
 use serde_json::Value;
-use shadowfocus_geom::{focus_body_into, Aabb, Body, Frustum, Light, Polytope};
+use shadowfocus_geom::{focus_body_exact_into, focus_body_into, focus_body_into_without_skip, Aabb, Body, Frustum, Light};
 use std::hint::black_box;
 use std::path::Path;
 
@@ -102,18 +102,27 @@ fn bench(c: &mut Criterion) {
             }
         })
     });
-    let mut poly = Polytope::from_aabb(&mixed[0].scene);
     group.bench_function("skippable_cases_without_skip", |b| {
         b.iter(|| {
             for case in &skippable {
-                poly.reset_to_aabb(&case.scene);
-                if let Ok(hull) = case.view.hull_with(case.light.apex()) {
-                    let _ = poly.clip_all(hull.as_slice());
-                }
-                if let Light::Spot { frustum, .. } = &case.light {
-                    let _ = poly.clip_all(frustum.planes().as_slice());
-                }
-                black_box(poly.dimension());
+                let _ = focus_body_into_without_skip(&mut body, &case.view, &case.light, &case.scene);
+            }
+        })
+    });
+    // What the floating-point path saves: the same cases through the exact
+    // engine alone.
+    group.throughput(Throughput::Elements(mixed.len() as u64));
+    group.bench_function("mixed_exact_engine_only", |b| {
+        b.iter(|| {
+            for case in &mixed {
+                let _ = focus_body_exact_into(&mut body, &case.view, &case.light, &case.scene);
+            }
+        })
+    });
+    group.bench_function("mixed", |b| {
+        b.iter(|| {
+            for case in &mixed {
+                let _ = focus_body_into(&mut body, &case.view, &case.light, &case.scene);
             }
         })
     });

@@ -337,6 +337,9 @@ fn plan(view: &Frustum, light: &Light, scene: &Aabb) -> Result<Option<Plan>, Geo
         Light::Spot { frustum, .. } => Some(frustum.planes()),
         _ => None,
     };
+    // NOTE: a directional light's hull reaches past S whatever V does; a
+    // point light's hull lies in S when V and the light do (convexity).
+    let scene_clip_skipped = scene_clip_skipped && !matches!(light, Light::Directional { .. });
     Ok(Some(Plan { start, scene_clip_skipped, hull, light_planes }))
 }
 
@@ -358,11 +361,7 @@ fn clip_certified(fast: &mut CertifiedClipper, plan: &Plan, view: &Frustum, ligh
         _ => None,
     };
     let mut step = fast.reset_to_hull(view, light.apex(), &plan.hull, scene, light_frustum);
-    // NOTE: a directional light's hull reaches past S whatever the start box
-    // says (`scene_clip_skipped` is about that box); a point light's hull
-    // lies in S when V and the light do.
-    let hull_in_scene = plan.scene_clip_skipped && !matches!(light, Light::Directional { .. });
-    if step == Step::Solid && !hull_in_scene {
+    if step == Step::Solid && !plan.scene_clip_skipped {
         step = fast.clip_box(scene);
     }
     if let (Step::Solid, Some(l)) = (step, &plan.light_planes) {
@@ -389,17 +388,24 @@ fn clip_certified(fast: &mut CertifiedClipper, plan: &Plan, view: &Frustum, ligh
 ///   `V ∪ {l}` instead of clipping by `S`;
 /// - clipping stops as soon as the body is empty.
 pub fn focus_body_into(out: &mut Body, view: &Frustum, light: &Light, scene: &Aabb) -> Result<(), GeomError> {
-    compute(out, view, light, scene, true)
+    compute(out, view, light, scene, true, true)
+}
+
+/// [`focus_body_into`] without the scene-clip skip, to measure what it
+/// saves; the same body.
+#[doc(hidden)]
+pub fn focus_body_into_without_skip(out: &mut Body, view: &Frustum, light: &Light, scene: &Aabb) -> Result<(), GeomError> {
+    compute(out, view, light, scene, true, false)
 }
 
 /// [`focus_body_into`] without the floating-point path: every case runs the
 /// exact engine. The answer is the same; this is the reference the fast
 /// path is tested against, and a baseline for benchmarks.
 pub fn focus_body_exact_into(out: &mut Body, view: &Frustum, light: &Light, scene: &Aabb) -> Result<(), GeomError> {
-    compute(out, view, light, scene, false)
+    compute(out, view, light, scene, false, true)
 }
 
-fn compute(out: &mut Body, view: &Frustum, light: &Light, scene: &Aabb, float_path: bool) -> Result<(), GeomError> {
+fn compute(out: &mut Body, view: &Frustum, light: &Light, scene: &Aabb, float_path: bool, skip: bool) -> Result<(), GeomError> {
     scene.validate()?;
     light.validate()?;
     out.inputs = None;
@@ -420,6 +426,8 @@ fn compute(out: &mut Body, view: &Frustum, light: &Light, scene: &Aabb, float_pa
             return Err(e);
         }
     };
+    let mut plan = plan;
+    plan.scene_clip_skipped &= skip;
     stats.scene_clip_skipped = plan.scene_clip_skipped;
     stats.planes_offered = (plan.hull.as_slice().len() + plan.light_planes.map_or(0, |l| l.as_slice().len())) as u16;
 

@@ -91,16 +91,17 @@ impl FloatPlane {
                 n[axis as usize] = if upper { 1.0 } else { -1.0 };
                 FloatPlane { axis, upper, value, ..FloatPlane::general(src, n, DVec3::ZERO, DVec3::ZERO, 0.0, through) }
             }
-            // NOTE: each cross-product component is a difference of two
-            // products of rounded differences: at most 4 roundings of the
-            // products' size, bounded by 5u of their absolute sum.
+            // NOTE: a cross-product component is ã·b̃ − ã′·b̃′ over rounded
+            // differences: each product is off by 2u (its two differences)
+            // plus u (its rounding), the subtraction by u of the result, so
+            // |ñ − n| ≤ 4u·(|ã·b̃| + |ã′·b̃′|); with an exact direction, 3u.
             Plane::Points([p, q, r]) => {
                 let (a, b) = (q - p, r - p);
-                general(a.cross(b), abs_cross(a, b) * (5.0 * U), p, 0.0)
+                general(a.cross(b), abs_cross(a, b) * (4.0 * U * SLACK), p, 0.0)
             }
             Plane::PointsDirection { p, q, direction } => {
                 let a = q - p;
-                general(a.cross(direction), abs_cross(a, direction) * (5.0 * U), p, 0.0)
+                general(a.cross(direction), abs_cross(a, direction) * (3.0 * U * SLACK), p, 0.0)
             }
             Plane::Coefficients { normal, offset } => general(normal, DVec3::ZERO, DVec3::ZERO, offset),
         }
