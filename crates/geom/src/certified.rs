@@ -1,5 +1,9 @@
 //! The fast path: clipping in plain `f64`, every decision certified.
 //!
+//! The body starts as `hull(V ∪ {l})` (its vertices are exact input points,
+//! its faces given by the exact beneath–beyond signs) and is clipped by the
+//! faces of the scene box `S` and of a spot light's frustum `L`.
+//!
 //! A vertex is kept as a rounded point with a per-coordinate bound on its
 //! distance from the exact vertex; a side value comes with a bound on its
 //! distance from the exact side value, and its sign is taken only when the
@@ -13,8 +17,8 @@
 //! Zeros that the construction explains are exact, not filtered:
 //! - a vertex that is an input point (a frustum corner, the light) lies on
 //!   every plane defined through that point;
-//! - a coordinate fixed by an axis plane of the box is exact, so the sign
-//!   against any axis plane is a comparison of two floats;
+//! - a coordinate fixed by a face of `S` (an axis plane) is exact, so its
+//!   sign against any axis plane is a comparison of two floats;
 //! - a vertex whose coordinates are all exact is tested with the exact
 //!   orientation predicate.
 //!
@@ -46,7 +50,8 @@ const SLACK: f64 = 1.0 + 1.0 / (1u64 << 40) as f64;
 /// relative error bounds fail) out of the way.
 const FLOOR: f64 = 1e-280;
 
-/// Box (6) + hull of a frustum with a point (≤ 24) + light frustum (≤ 12).
+/// Hull of a frustum with a point (≤ 24) + closing plane + box (6) + light
+/// frustum (≤ 12).
 const MAX_FAST_PLANES: usize = 48;
 /// A face has at most one edge per other plane.
 const FACE_CAP: usize = MAX_FAST_PLANES;

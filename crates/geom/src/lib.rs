@@ -6,9 +6,12 @@
 //! when lit from `l` — a point, or a point at infinity for directional
 //! lights. This crate computes `H` for the exact values of its `f64`
 //! inputs: every side-of-plane, coplanarity, emptiness and flatness decision
-//! is made with filtered exact predicates (a floating-point filter with a
-//! rigorous error bound, and exact big-integer arithmetic when the filter
-//! cannot decide). Vertices are rounded to `f64` only at the end.
+//! is the exact one. A case first runs a floating-point clipper in which
+//! every sign and every vertex carries a proven error bound; whatever that
+//! cannot prove (exact coincidences, near-degenerate input, flat results)
+//! goes to an exact engine of filtered predicates with a big-integer
+//! fallback and unrounded vertices. Output vertices are within
+//! [`ROUNDING_ULPS`] of the exact ones.
 //!
 //! ```
 //! use shadowfocus_geom::{focus_body, Aabb, Camera, Dimension, Frustum, Light};
