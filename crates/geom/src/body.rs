@@ -384,8 +384,8 @@ fn clip_certified(fast: &mut CertifiedClipper, plan: &Plan, view: &Frustum, ligh
 /// Work skipped when a case does not need it:
 /// - `L` is clipped only for spot lights;
 /// - for point and spot lights with `V ⊆ S` and `l ∈ S`, `hull(V ∪ {l}) ⊆ S`
-///   by convexity, so the computation starts from the (smaller) box around
-///   `V ∪ {l}` instead of clipping by `S`;
+///   by convexity, so `S` is not clipped (the exact engine starts from the
+///   smaller box around `V ∪ {l}` instead);
 /// - clipping stops as soon as the body is empty.
 pub fn focus_body_into(out: &mut Body, view: &Frustum, light: &Light, scene: &Aabb) -> Result<(), GeomError> {
     compute(out, view, light, scene, true, true)
@@ -410,7 +410,7 @@ fn compute(out: &mut Body, view: &Frustum, light: &Light, scene: &Aabb, float_pa
     light.validate()?;
     out.inputs = None;
     let mut stats = FocusStats { light_clip_skipped: !matches!(light, Light::Spot { .. }), ..FocusStats::default() };
-    let plan = match plan(view, light, scene) {
+    let mut plan = match plan(view, light, scene) {
         Ok(Some(plan)) => plan,
         Ok(None) => {
             // The box around what can cast into V misses S: H is empty.
@@ -426,7 +426,6 @@ fn compute(out: &mut Body, view: &Frustum, light: &Light, scene: &Aabb, float_pa
             return Err(e);
         }
     };
-    let mut plan = plan;
     plan.scene_clip_skipped &= skip;
     stats.scene_clip_skipped = plan.scene_clip_skipped;
     stats.planes_offered = (plan.hull.as_slice().len() + plan.light_planes.map_or(0, |l| l.as_slice().len())) as u16;

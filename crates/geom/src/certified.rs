@@ -214,6 +214,13 @@ fn line_crossing(a: DVec3, d: DVec3, d_rounded: bool, p: &FloatPlane) -> Option<
     (x.is_finite() && rad.is_finite()).then_some((x, rad))
 }
 
+/// Indices of the set bits of a plane or input-point mask, lowest first.
+fn bits(mask: u64) -> impl Iterator<Item = usize> {
+    // NOTE: `successors` computes the next mask as it yields the last one (0),
+    // hence the wrapping subtraction.
+    std::iter::successors(Some(mask), |m| Some(m & m.wrapping_sub(1))).take_while(|&m| m != 0).map(|m| m.trailing_zeros() as usize)
+}
+
 /// A sign proven by `(value, bound)`; `bound == 0` means the value is exact.
 #[inline]
 fn decide(s: f64, e: f64) -> Option<i8> {
@@ -626,10 +633,7 @@ impl CertifiedClipper {
         let (x, r) = (self.pos[v], self.rad[v]);
         // A point on several planes that share a line with k: any of them
         // may decide (the point can lie close to one line and far from another).
-        let mut m = self.on[v] & self.partners[k];
-        while m != 0 {
-            let i = m.trailing_zeros() as usize;
-            m &= m - 1;
+        for i in bits(self.on[v] & self.partners[k]) {
             if let Some(fold) = self.fold(i, k) {
                 let (s, e) = fold.proxy.side(x, r);
                 if let Some(s) = decide(s, e) {
@@ -662,9 +666,8 @@ impl CertifiedClipper {
     }
 
     fn make_fold(&self, i: usize, k: usize, common: u32) -> Option<Fold> {
-        let a_id = common.trailing_zeros() as usize;
-        let c_id = (common & (common - 1)).trailing_zeros() as usize;
-        let (a, c) = (self.points[a_id], self.points[c_id]);
+        let mut ids = bits(common as u64);
+        let (a, c) = (self.points[ids.next()?], self.points[ids.next()?]);
         let Plane::Points(defining) = self.planes[i].src else { return None };
         if a == c {
             return None;
@@ -706,13 +709,7 @@ impl CertifiedClipper {
         self.on[out] = on;
         // Exact incidences: if every plane through the vertex passes through
         // one input point, the vertex is that point.
-        let mut pts = u32::MAX;
-        let mut m = on;
-        while m != 0 && pts != 0 {
-            let i = m.trailing_zeros() as usize;
-            m &= m - 1;
-            pts &= self.planes[i].through;
-        }
+        let pts = bits(on).fold(u32::MAX, |pts, i| pts & self.planes[i].through);
         if pts != 0 {
             self.pos[out] = self.points[pts.trailing_zeros() as usize];
             self.rad[out] = DVec3::ZERO;
@@ -731,17 +728,13 @@ impl CertifiedClipper {
         let guess = self.pos[from] + (self.pos[to] - self.pos[from]) * t;
         // The edge lies on two planes of `common`; with `k` they define the
         // vertex.
-        if common.count_ones() < 2 {
-            return false;
-        }
-        let i = common.trailing_zeros() as usize;
-        let j = (common & (common - 1)).trailing_zeros() as usize;
+        let mut edge = bits(common);
+        let (Some(i), Some(j)) = (edge.next(), edge.next()) else { return false };
         let mut planes = [self.planes[i], self.planes[j], self.planes[k]];
         for (x, y) in [(0, 1), (0, 2), (1, 2)] {
-            let shared = planes[x].through & planes[y].through;
-            if shared.count_ones() >= 2 {
-                let a = self.points[shared.trailing_zeros() as usize];
-                let c = self.points[(shared & (shared - 1)).trailing_zeros() as usize];
+            let mut shared = bits((planes[x].through & planes[y].through) as u64);
+            if let (Some(a), Some(c)) = (shared.next(), shared.next()) {
+                let (a, c) = (self.points[a], self.points[c]);
                 if a != c {
                     planes[y] = line_proxy(&planes[x], a, c);
                     break;
@@ -755,10 +748,7 @@ impl CertifiedClipper {
     /// Stores vertex `out` (on the planes `on`), making the coordinates that
     /// axis planes through it fix exact.
     fn place(&mut self, out: usize, on: u64, mut x: DVec3, mut rad: DVec3) -> bool {
-        let mut m = on;
-        while m != 0 {
-            let i = m.trailing_zeros() as usize;
-            m &= m - 1;
+        for i in bits(on) {
             let p = &self.planes[i];
             if p.axis < 3 {
                 x[p.axis as usize] = p.value;
@@ -784,10 +774,7 @@ impl CertifiedClipper {
         let kp = &self.planes[k];
         let axis = kp.axis as usize;
         let (mut first_axis, mut general) = (None, None);
-        let mut m = if kp.axis < 3 { common } else { 0 };
-        while m != 0 {
-            let i = m.trailing_zeros() as usize;
-            m &= m - 1;
+        for i in bits(if kp.axis < 3 { common } else { 0 }) {
             let p = &self.planes[i];
             if p.axis < 3 && p.axis as usize != axis {
                 match first_axis {
@@ -807,23 +794,19 @@ impl CertifiedClipper {
         }
         // An input line: two planes of `common` sharing two input points, or
         // one point and the light's direction.
-        let mut m = common;
-        while m != 0 {
-            let i = m.trailing_zeros() as usize;
-            m &= m - 1;
-            let mut rest = m;
-            while rest != 0 {
-                let j = rest.trailing_zeros() as usize;
-                rest &= rest - 1;
-                let shared = self.planes[i].through & self.planes[j].through;
-                let a = self.points[shared.trailing_zeros() as usize % N_POINTS];
-                let d = match (shared.count_ones(), self.planes[i].src, self.planes[j].src) {
-                    (0, ..) => continue,
-                    (1, Plane::PointsDirection { direction: u, .. }, Plane::PointsDirection { direction: v, .. }) if u == v => u,
-                    (1, ..) => continue,
-                    _ => self.points[(shared & (shared - 1)).trailing_zeros() as usize] - a,
+        for i in bits(common) {
+            for j in bits(common & (u64::MAX << i << 1)) {
+                let mut shared = bits((self.planes[i].through & self.planes[j].through) as u64);
+                let Some(a) = shared.next() else { continue };
+                let a_point = self.points[a];
+                let (d, rounded) = match (shared.next(), self.planes[i].src, self.planes[j].src) {
+                    (Some(b), ..) => (self.points[b] - a_point, true),
+                    (None, Plane::PointsDirection { direction: u, .. }, Plane::PointsDirection { direction: v, .. }) if u == v => {
+                        (u, false)
+                    }
+                    (None, ..) => continue,
                 };
-                return line_crossing(a, d, shared.count_ones() >= 2, kp);
+                return line_crossing(a_point, d, rounded, kp);
             }
         }
         None
