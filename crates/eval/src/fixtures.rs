@@ -66,14 +66,21 @@ fn magnitude(v: &Value) -> f64 {
     }
 }
 
-struct Parsed {
-    view: [DVec3; 8],
-    light: Light,
-    scene: Aabb,
+/// One fixture case with its exact (CGAL) body, rounded to nearest.
+#[derive(Clone, Debug)]
+pub struct FixtureCase {
+    pub id: String,
+    pub view: [DVec3; 8],
+    pub light: Light,
+    pub scene: Aabb,
+    /// Largest input coordinate magnitude (errors are relative to it).
+    pub magnitude: f64,
+    pub expected_dimension: i32,
+    pub expected_vertices: Vec<DVec3>,
     naive: Option<NaiveLight>,
 }
 
-fn parse(case: &Value) -> Option<Parsed> {
+fn parse(case: &Value, expected: &Value) -> Option<FixtureCase> {
     let view = corners(&case["view"]["corners"])?;
     let l = &case["light"];
     let (light, naive) = if let Some(d) = vec3(&l["directional"]) {
@@ -86,27 +93,44 @@ fn parse(case: &Value) -> Option<Parsed> {
         (Light::spot(vec3(&s["position"])?, f).ok()?, None)
     };
     let scene = Aabb::new(vec3(&case["scene"]["min"])?, vec3(&case["scene"]["max"])?).ok()?;
-    Some(Parsed { view, light, scene, naive })
+    Some(FixtureCase {
+        id: case["id"].as_str().unwrap_or("").to_string(),
+        view,
+        light,
+        scene,
+        magnitude: magnitude(case).max(f64::MIN_POSITIVE),
+        expected_dimension: expected["dimension"].as_i64().unwrap_or(-2) as i32,
+        expected_vertices: expected["vertices"].as_array().map(|a| a.iter().filter_map(vec3).collect()).unwrap_or_default(),
+        naive,
+    })
+}
+
+/// The cases of one fixture file that carry explicit view corners, and the
+/// number of lines that could not be read as such.
+pub fn read_file(dir: &Path, name: &str) -> Result<(Vec<FixtureCase>, usize), String> {
+    let read = |sub: &str| std::fs::read_to_string(dir.join(sub).join(format!("{name}.jsonl"))).map_err(|e| format!("{sub}/{name}.jsonl: {e}"));
+    let (cases, expected) = (read("cases")?, read("expected")?);
+    let mut out = Vec::new();
+    let mut skipped = 0;
+    for (cl, el) in cases.lines().zip(expected.lines()) {
+        let parsed = match (serde_json::from_str::<Value>(cl), serde_json::from_str::<Value>(el)) {
+            (Ok(cv), Ok(ev)) => parse(&cv, &ev),
+            _ => None,
+        };
+        match parsed {
+            Some(c) => out.push(c),
+            None => skipped += 1,
+        }
+    }
+    Ok((out, skipped))
 }
 
 /// Compares one fixture file (cases and expected bodies, line by line).
 pub fn compare_file(dir: &Path, name: &str) -> Result<FixtureSummary, String> {
-    let read = |sub: &str| std::fs::read_to_string(dir.join(sub).join(format!("{name}.jsonl"))).map_err(|e| format!("{sub}/{name}.jsonl: {e}"));
-    let (cases, expected) = (read("cases")?, read("expected")?);
-    let mut s = FixtureSummary { file: name.to_string(), ..Default::default() };
-    for (cl, el) in cases.lines().zip(expected.lines()) {
-        s.cases += 1;
-        let (Ok(cv), Ok(ev)) = (serde_json::from_str::<Value>(cl), serde_json::from_str::<Value>(el)) else {
-            s.skipped += 1;
-            continue;
-        };
-        let Some(p) = parse(&cv) else {
-            s.skipped += 1;
-            continue;
-        };
-        let mag = magnitude(&cv).max(f64::MIN_POSITIVE);
-        let exp_dim = ev["dimension"].as_i64().unwrap_or(-2) as i32;
-        let exp_v: Vec<DVec3> = ev["vertices"].as_array().map(|a| a.iter().filter_map(vec3).collect()).unwrap_or_default();
+    let (cases, skipped) = read_file(dir, name)?;
+    let mut s = FixtureSummary { file: name.to_string(), cases: cases.len() + skipped, skipped, ..Default::default() };
+    for p in &cases {
+        let (mag, exp_dim, exp_v) = (p.magnitude, p.expected_dimension, &p.expected_vertices);
         let Ok(view) = Frustum::from_corners(p.view) else {
             s.ours_errors += 1;
             continue;

@@ -6,7 +6,8 @@
 //! - [`table`], [`svg`]: rows of the run-time-against-error sweep, their
 //!   CSV and markdown views, Pareto fronts and log–log plots.
 //! - [`stress`], [`naive`]: numerical stress families checked exactly,
-//!   against a naive floating-point pipeline.
+//!   against a naive floating-point pipeline, and against [`oracle`], an
+//!   independent big-integer reference for the body.
 //! - [`fixtures`]: the body against the committed CGAL-exact fixtures, and
 //!   the naive pipeline against the same oracle.
 //!
@@ -15,6 +16,7 @@
 pub mod bound;
 pub mod fixtures;
 pub mod naive;
+pub mod oracle;
 pub mod stress;
 pub mod svg;
 pub mod table;

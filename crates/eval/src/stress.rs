@@ -2,10 +2,13 @@
 //! the ranges where floating-point focusing breaks, each checked exactly.
 //!
 //! Per case:
+//! - the body against [`crate::oracle`], an independent big-integer
+//!   computation of the exact `H`: same dimension, same vertex count, and
+//!   the distance between the vertex sets (relative to the case's magnitude);
 //! - conservativeness of the body: every corner of `V` that lies in `S`
 //!   (decided exactly: box membership of an f64 point is exact) must lie in
-//!   the exact body `H` (exact containment, [`shadowfocus_geom::Polytope::contains_point`]),
-//!   and within rounding of the reported (rounded) body's face planes;
+//!   the exact body `H` (the oracle's exact containment), and every corner and
+//!   exact vertex within rounding of the reported (rounded) body's face planes;
 //! - every fitted map must keep its body's vertices inside the clip volume
 //!   `w > 0, −w ≤ x, y ≤ w, 0 ≤ z ≤ w`, evaluated in f64;
 //! - the condition number of every world→clip matrix (nalgebra SVD);
@@ -14,6 +17,7 @@
 //!   whether it degenerates or fails.
 
 use crate::naive::{naive_body, NaiveBody, NaiveLight};
+use crate::oracle;
 use glam::{DMat4, DVec3, DVec4};
 use shadowfocus_focus::{fit, FocusResult, FocusSettings, Method, SplitSettings};
 use shadowfocus_geom::{focus_body, Aabb, Camera, Frustum, Light};
@@ -40,12 +44,19 @@ pub struct StressOutcome {
     pub body_error: Option<String>,
     pub dimension: i32,
     pub vertices: usize,
+    /// The oracle's dimension and vertex count, whether ours match, and the
+    /// distance between the vertex sets relative to the magnitude.
+    pub oracle_dimension: i32,
+    pub oracle_vertices: usize,
+    pub oracle_agrees: bool,
+    pub oracle_error: f64,
     /// Corners of V inside S.
     pub corners_in_scene: usize,
     /// Of those, outside the exact body (must be 0).
     pub exact_violations: usize,
-    /// Largest distance of such a corner outside the rounded body's face
-    /// planes, relative to the case's magnitude (≈ a few ulps at most).
+    /// Largest distance of such a corner or of an exact vertex outside the
+    /// rounded body's face planes, relative to the case's magnitude (≈ a few
+    /// ulps at most).
     pub rounded_excess: f64,
     /// Fitted maps checked / maps whose body left the clip volume / fits
     /// that returned an error.
@@ -139,6 +150,13 @@ pub fn stress_cases() -> Vec<StressCase> {
             push(&mut v, "coplanar", y, format!("S min.y at far top edge ({tag})"), cam, sun(), s);
         }
     }
+    // Flat and point-sized results: a zero-thickness scene in the near
+    // plane (a polygon), and a scene that is a single far corner of V.
+    let flat = aabb(DVec3::new(-1000.0, -1000.0, -1.0), DVec3::new(1000.0, 1000.0, -1.0));
+    push(&mut v, "coplanar", -1.0, "S flat in the near plane".into(), cam, sun(), flat);
+    if let Ok(c) = cam.corners() {
+        push(&mut v, "coplanar", c[6].z, "S = a far corner of V".into(), cam, Light::Point { position: DVec3::new(0.0, 500.0, -50.0) }, aabb(c[6], c[6]));
+    }
     for (tag, z) in [("on", -1.0f64), ("ulp+", (-1.0f64).next_up()), ("ulp-", (-1.0f64).next_down())] {
         push(&mut v, "coplanar", z, format!("point light in near plane ({tag})"), cam, Light::Point { position: DVec3::new(0.0, 50.0, z) }, wide);
     }
@@ -220,16 +238,21 @@ pub fn run_case(c: &StressCase) -> StressOutcome {
     };
     let corners: Vec<DVec3> = frustum.corners().iter().copied().filter(|p| c.scene.contains(*p)).collect();
     o.corners_in_scene = corners.len();
-    match focus_body(&frustum, &c.light, &c.scene) {
-        Err(e) => o.body_error = Some(e.to_string()),
-        Ok(body) => {
+    let exact = oracle::exact_body(frustum.corners(), &c.light, &c.scene);
+    match (focus_body(&frustum, &c.light, &c.scene), exact) {
+        (Err(e), _) => o.body_error = Some(e.to_string()),
+        (_, Err(e)) => o.body_error = Some(format!("oracle: {e}")),
+        (Ok(body), Ok(exact)) => {
             o.dimension = body.dimension().as_i32();
             o.vertices = body.vertices().len();
-            let exact = body.exact();
-            for p in &corners {
-                if !exact.as_ref().is_some_and(|h| h.contains_point(*p)) {
-                    o.exact_violations += 1;
-                }
+            o.oracle_dimension = exact.dimension;
+            o.oracle_vertices = exact.vertices.len();
+            let a = oracle::compare(&exact, o.dimension, body.vertices());
+            o.oracle_agrees = a.dimension_matches && a.vertex_counts_match;
+            o.oracle_error = a.max_vertex_error / mag;
+            o.exact_violations = corners.iter().filter(|p| !exact.contains(**p)).count();
+            let exact_vertices: Vec<DVec3> = exact.vertices.iter().map(oracle::to_f64).collect();
+            for p in corners.iter().chain(&exact_vertices) {
                 for pl in body.face_planes() {
                     let d = pl.truncate().dot(*p) + pl.w;
                     o.rounded_excess = o.rounded_excess.max(d / mag);
@@ -283,7 +306,7 @@ fn sci(x: f64) -> String {
 /// The markdown report section: one line per case.
 pub fn report_markdown(outcomes: &[StressOutcome]) -> String {
     let mut s = String::from(
-        "| family | case | dim | V∩S corners | violations (exact) | rounded excess (rel.) | maps ok / checked | max cond | fit errors | naive | naive lost | naive excess (rel.) |\n|---|---|---:|---:|---:|---:|---|---:|---|---|---:|---:|\n",
+        "| family | case | dim | oracle dim / vertices | vertex error (rel.) | V∩S corners | violations (exact) | rounded excess (rel.) | maps ok / checked | max cond | fit errors | naive | naive lost | naive excess (rel.) |\n|---|---|---:|---:|---:|---:|---:|---:|---|---:|---|---|---:|---:|\n",
     );
     for o in outcomes {
         let dim = match &o.body_error {
@@ -291,10 +314,14 @@ pub fn report_markdown(outcomes: &[StressOutcome]) -> String {
             None => o.dimension.to_string(),
         };
         s.push_str(&format!(
-            "| {} | {} | {} | {} | {} | {} | {}/{} | {} | {} | {} | {} | {} |\n",
+            "| {} | {} | {} | {}{} / {} | {} | {} | {} | {} | {}/{} | {} | {} | {} | {} | {} |\n",
             o.family,
             o.label,
             dim,
+            if o.oracle_agrees { "" } else { "**≠** " },
+            o.oracle_dimension,
+            o.oracle_vertices,
+            sci(o.oracle_error),
             o.corners_in_scene,
             o.exact_violations,
             sci(o.rounded_excess),
@@ -308,13 +335,16 @@ pub fn report_markdown(outcomes: &[StressOutcome]) -> String {
         ));
     }
     let total = outcomes.len();
+    let agree = outcomes.iter().filter(|o| o.body_error.is_none() && o.oracle_agrees).count();
+    let worst = outcomes.iter().map(|o| o.oracle_error).fold(0.0, f64::max);
     let viol: usize = outcomes.iter().map(|o| o.exact_violations).sum();
     let bad_maps: usize = outcomes.iter().map(|o| o.maps_not_containing).sum();
     let broke = outcomes.iter().filter(|o| naive_broke(o)).count();
     let degenerate = outcomes.iter().filter(|o| naive_broke(o) && o.naive_kind != "solid").count();
     let gross = outcomes.iter().filter(|o| naive_broke(o) && o.naive_lost_excess > GROSS_LOSS).count();
     s.push_str(&format!(
-        "\n{total} cases: {viol} conservativeness violations of the exact body, {bad_maps} fitted maps not containing their body. The naive f64 + ε pipeline broke on {broke} cases where ours did not: {degenerate} degenerate or failed hulls, {gross} with a view corner lost by more than {GROSS_LOSS:e} (relative), the rest excluding a corner by a rounding-level amount (still a lost caster if one touches it).\n"
+        "\n{total} cases: the body agrees with the big-integer oracle (dimension and vertex count) on {agree}, largest vertex error {} of the magnitude; {viol} conservativeness violations of the exact body, {bad_maps} fitted maps not containing their body. The naive f64 + ε pipeline broke on {broke} cases where ours did not: {degenerate} degenerate or failed hulls, {gross} with a view corner lost by more than {GROSS_LOSS:e} (relative), the rest excluding a corner by a rounding-level amount (still a lost caster if one touches it).\n",
+        sci(worst)
     ));
     s
 }

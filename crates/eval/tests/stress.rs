@@ -23,6 +23,20 @@ fn every_family_is_swept() {
 }
 
 #[test]
+fn body_agrees_with_the_big_integer_oracle() {
+    for o in outcomes() {
+        assert!(o.body_error.is_none(), "{} {}: {:?}", o.family, o.label, o.body_error);
+        assert!(o.oracle_agrees, "{} {}: ours dim {} with {} vertices, exact dim {} with {}", o.family, o.label, o.dimension, o.vertices, o.oracle_dimension, o.oracle_vertices);
+        // Rounding to nearest moves a vertex by at most half an ulp of its
+        // largest coordinate; the body engine promises a few ulps.
+        assert!(o.oracle_error <= 16.0 * f64::EPSILON, "{} {}: vertex error {:e} of the magnitude", o.family, o.label, o.oracle_error);
+    }
+    // Not vacuous: every kind of result the families produce is compared.
+    let dims: std::collections::BTreeSet<i32> = outcomes().iter().map(|o| o.oracle_dimension).collect();
+    assert!([0, 2, 3].iter().all(|d| dims.contains(d)), "dimensions seen: {dims:?}");
+}
+
+#[test]
 fn body_never_loses_a_view_corner_inside_the_scene() {
     for o in outcomes() {
         assert!(o.body_error.is_none(), "{} {}: {:?}", o.family, o.label, o.body_error);
