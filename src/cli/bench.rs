@@ -1,12 +1,12 @@
 //! `shadowfocus bench`: run time against error over the built-in scenes,
 //! methods, splits and resolutions; the skip plan on and off; the numerical
-//! stress report. Writes `results.csv`, `results.md`, Pareto plots (SVG) and
+//! stress report. Writes `results.csv`, `results.md`, Pareto plots (SVG and PNG) and
 //! `stress.md` into the output folder.
 
 use super::fit::FitOptions;
 use super::render::fit_scene;
 use serde_json::{json, Value};
-use shadowfocus_eval::{bound, fixtures, stress, svg, table};
+use shadowfocus_eval::{bound, fixtures, plot, raster, stress, svg, table};
 use shadowfocus_focus::Method;
 use shadowfocus_render as render;
 use render::{RenderRequest, Renderer, Scene, ShadowMapSpec};
@@ -51,7 +51,7 @@ fn opts(method: Method, splits: usize, scheme: &str, resolution: u32) -> FitOpti
 }
 
 /// Configuration name: `lispsm`, `pssm4-log-lispsm`.
-fn label(o: &FitOptions) -> String {
+pub fn label(o: &FitOptions) -> String {
     if o.splits == 1 {
         o.method.name().to_string()
     } else {
@@ -59,8 +59,9 @@ fn label(o: &FitOptions) -> String {
     }
 }
 
-/// The configurations of a sweep at one resolution.
-fn configs(quick: bool, full: bool, res: u32) -> Vec<FitOptions> {
+/// The configurations of a sweep at one resolution (also benchmarked by
+/// criterion: `cargo bench --bench scenes`).
+pub fn configs(quick: bool, full: bool, res: u32) -> Vec<FitOptions> {
     let mut v: Vec<FitOptions> = METHODS.iter().map(|&m| opts(m, 1, "practical", res)).collect();
     if quick {
         v.push(opts(Method::Lispsm, 4, "practical", res));
@@ -160,31 +161,28 @@ fn plots(dir: &Path, rows: &[Row]) -> Result<Vec<String>, String> {
     scenes.dedup();
     for scene in scenes {
         let sel: Vec<&Row> = rows.iter().filter(|r| r.plan && r.scene == scene).collect();
-        let pts = |x: &dyn Fn(&Row) -> f64, keep: &dyn Fn(&Row) -> bool| -> Vec<svg::Point> {
+        let pts = |x: &dyn Fn(&Row) -> f64, keep: &dyn Fn(&Row) -> bool| -> Vec<plot::Point> {
             sel.iter()
                 .filter(|r| keep(r))
-                .map(|r| svg::Point { x: x(r), y: r.aliasing_p95, series: family(r), label: format!("{} @{}", r.config, r.resolution) })
+                .map(|r| plot::Point { x: x(r), y: r.aliasing_p95, series: family(r), label: format!("{} @{}", r.config, r.resolution) })
                 .collect()
         };
         // Focusing time does not depend on the resolution: plot one
         // resolution per map (1024, or the nearest below it) so that each
         // configuration appears once.
         let res = sel.iter().map(|r| r.resolution).filter(|&r| r <= 1024).max().or_else(|| sel.iter().map(|r| r.resolution).min()).unwrap_or(0);
-        let time = svg::scatter(
-            &format!("{scene}: aliasing p95 vs focusing time ({res}² per map)"),
-            "focusing time per frame (µs, one thread)",
-            "aliasing p95 (screen px per texel)",
-            &pts(&|r| r.focusing_us, &|r| r.resolution == res),
-        );
-        let mem = svg::scatter(
-            &format!("{scene}: aliasing p95 vs texture memory"),
-            "shadow-map memory (MiB)",
-            "aliasing p95 (screen px per texel)",
-            &pts(&|r| r.texture_bytes as f64 / 1048576.0, &|_| true),
-        );
-        for (name, body) in [(format!("pareto_time_{scene}.svg"), time), (format!("pareto_memory_{scene}.svg"), mem)] {
-            std::fs::write(dir.join(&name), body).map_err(|e| format!("{name}: {e}"))?;
-            written.push(name);
+        let time_title = format!("{scene}: aliasing p95 vs focusing time ({res}² per map)");
+        let mem_title = format!("{scene}: aliasing p95 vs texture memory");
+        let (time_x, mem_x, y) = ("focusing time per frame (µs, one thread)", "shadow-map memory (MiB)", "aliasing p95 (screen px per texel)");
+        let time_pts = pts(&|r| r.focusing_us, &|r| r.resolution == res);
+        let mem_pts = pts(&|r| r.texture_bytes as f64 / 1048576.0, &|_| true);
+        for (kind, title, x, points) in [("time", &time_title, time_x, &time_pts), ("memory", &mem_title, mem_x, &mem_pts)] {
+            let stem = format!("pareto_{kind}_{scene}");
+            let png = raster::scatter_png(title, x, y, points).map_err(|e| format!("{stem}.png: {e}"))?;
+            for (name, body) in [(format!("{stem}.svg"), svg::scatter(title, x, y, points).into_bytes()), (format!("{stem}.png"), png)] {
+                std::fs::write(dir.join(&name), body).map_err(|e| format!("{name}: {e}"))?;
+                written.push(name);
+            }
         }
     }
     Ok(written)

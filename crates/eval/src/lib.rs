@@ -3,8 +3,9 @@
 //!
 //! - [`bound`]: the least maximum perspective aliasing a texel budget allows
 //!   (logarithmic parameterisation), the yardstick for every method.
-//! - [`table`], [`svg`]: rows of the run-time-against-error sweep, their
-//!   CSV and markdown views, Pareto fronts and log–log plots.
+//! - [`table`], [`plot`], [`svg`], [`raster`]: rows of the run-time-against-error
+//!   sweep, their CSV and markdown views, Pareto fronts and log–log plots
+//!   (SVG and PNG).
 //! - [`stress`], [`naive`]: numerical stress families checked exactly,
 //!   against a naive floating-point pipeline, and against [`oracle`], an
 //!   independent big-integer reference for the body.
@@ -17,6 +18,8 @@ pub mod bound;
 pub mod fixtures;
 pub mod naive;
 pub mod oracle;
+pub mod plot;
+pub mod raster;
 pub mod stress;
 pub mod svg;
 pub mod table;
