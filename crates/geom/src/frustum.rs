@@ -4,7 +4,7 @@
 use crate::camera::Camera;
 use crate::error::{check_finite, GeomError};
 use crate::number::{cross, diff, dot, lift, Exact, Filtered, Ring};
-use crate::plane::{side_value, Plane};
+use crate::plane::Plane;
 use glam::DVec3;
 
 /// Faces of the canonical corner order (near −r−u, +r−u, +r+u, −r+u, then
@@ -105,31 +105,67 @@ fn corner_bits(idx: &[u8]) -> u32 {
 
 /// Sign of `((q − p) × (r − p)) · (x − p)`: positive when `x` lies on the
 /// side the normal of the CCW triangle `p, q, r` points to.
+///
+/// Three stages, cheapest first: a floating-point filter; the exact
+/// determinant in 256-bit integers ([`crate::wide`]) when the coordinates
+/// span few binades — where frustum corners almost always are, and where
+/// their nearly coplanar side faces would otherwise cost an adaptive
+/// predicate its slowest stage; else an adaptive predicate or big integers.
 pub(crate) fn orient(p: DVec3, q: DVec3, r: DVec3, x: DVec3) -> i8 {
+    fn eval<T: Ring>(p: DVec3, q: DVec3, r: DVec3, x: DVec3) -> T {
+        dot(&cross(&diff::<T>(q, p), &diff::<T>(r, p)), &diff::<T>(x, p))
+    }
+    // NOTE: with every coordinate 0 or within [2^-200, 2^200], no product
+    // below can overflow or underflow, so the static bound and the adaptive
+    // predicate are exact. Outside that range any of their results may be
+    // wrong (an infinity, a false zero, a false sign from underflowed
+    // products): there the dynamic filter and big integers decide.
+    let safe = |v: DVec3| v.to_array().iter().all(|c| *c == 0.0 || (c.abs() >= 2f64.powi(-200) && c.abs() <= 2f64.powi(200)));
+    let in_range = safe(p) && safe(q) && safe(r) && safe(x);
+    let filtered = if in_range { orient_static(p, q, r, x) } else { eval::<Filtered>(p, q, r, x).sign() };
+    if let Some(s) = filtered {
+        return s;
+    }
+    if let Some(s) = crate::wide::orient_det_sign(p.to_array(), q.to_array(), r.to_array(), x.to_array()) {
+        return s;
+    }
+    if !in_range {
+        return eval::<Exact>(p, q, r, x).sign();
+    }
     // robust::orient3d is positive when x lies *below* the CCW triangle.
     let c = |v: DVec3| robust::Coord3D { x: v.x, y: v.y, z: v.z };
     let d = robust::orient3d(c(p), c(q), c(r), c(x));
-    // NOTE: with every coordinate 0 or within [2^-200, 2^200], no product
-    // of the adaptive predicate can overflow or underflow, so its sign is
-    // exact. Outside that range any result may be wrong (an infinity, a NaN,
-    // a false zero or even a false sign from underflowed products): there the
-    // filter decides when it can, else big integers.
-    let safe = |v: DVec3| v.to_array().iter().all(|c| *c == 0.0 || (c.abs() >= 2f64.powi(-200) && c.abs() <= 2f64.powi(200)));
-    if !d.is_finite() || !(safe(p) && safe(q) && safe(r) && safe(x)) {
-        fn eval<T: Ring>(p: DVec3, q: DVec3, r: DVec3, x: DVec3) -> T {
-            dot(&cross(&diff::<T>(q, p), &diff::<T>(r, p)), &diff::<T>(x, p))
-        }
-        if let Some(s) = eval::<Filtered>(p, q, r, x).sign() {
-            return s;
-        }
-        return eval::<Exact>(p, q, r, x).sign();
-    }
     if d > 0.0 {
         -1
     } else if d < 0.0 {
         1
     } else {
         0
+    }
+}
+
+/// The orientation of [`orient`] in plain f64 when a static error bound
+/// proves its sign (inputs in the safe range).
+///
+/// The determinant is `det[p − x, q − x, r − x]`, which is `−` the value
+/// [`orient`] signs; rounding every difference, product and sum once puts
+/// it within `(7 + 56ε)ε` times the permanent (the same expression with
+/// absolute values) of the exact value (Shewchuk's orient3d bound, ε = 2^-53).
+#[inline]
+fn orient_static(p: DVec3, q: DVec3, r: DVec3, x: DVec3) -> Option<i8> {
+    const EPS: f64 = f64::EPSILON / 2.0;
+    const BOUND: f64 = (7.0 + 56.0 * EPS) * EPS;
+    let (a, b, c) = (p - x, q - x, r - x);
+    let (bc, ca, ab) = (b.y * c.z - b.z * c.y, c.y * a.z - c.z * a.y, a.y * b.z - a.z * b.y);
+    let det = a.x * bc + b.x * ca + c.x * ab;
+    let permanent = ((b.y * c.z).abs() + (b.z * c.y).abs()) * a.x.abs() + ((c.y * a.z).abs() + (c.z * a.y).abs()) * b.x.abs() + ((a.y * b.z).abs() + (a.z * b.y).abs()) * c.x.abs();
+    let bound = BOUND * permanent;
+    if det > bound {
+        Some(-1)
+    } else if -det > bound {
+        Some(1)
+    } else {
+        None
     }
 }
 
@@ -198,19 +234,14 @@ impl Frustum {
         // triangles by the fold decision above, so it is not tested again.
         for i in 0..f.n_faces as usize {
             let face = f.face(i);
-            let plane = Plane::Points([corners[face[0] as usize], corners[face[1] as usize], corners[face[2] as usize]]);
-            let coef = plane.coefficients::<Filtered>();
+            let (a, b, c) = (corners[face[0] as usize], corners[face[1] as usize], corners[face[2] as usize]);
             let quad = QUADS.iter().find(|q| face.iter().all(|v| q.contains(v))).expect("faces come from quads");
             let mut strictly_inside = false;
             for (k, &x) in corners.iter().enumerate() {
                 if quad.contains(&(k as u8)) {
                     continue;
                 }
-                let h = [Filtered::lit(x.x), Filtered::lit(x.y), Filtered::lit(x.z), Filtered::lit(1.0)];
-                let s = match side_value(&coef, &h).sign() {
-                    Some(s) => s,
-                    None => orient(corners[face[0] as usize], corners[face[1] as usize], corners[face[2] as usize], x),
-                };
+                let s = orient(a, b, c, x);
                 if s > 0 {
                     return Err(GeomError::DegenerateFrustum { what, reason: "corners are not in convex position (twisted or non-convex frustum)" });
                 }
@@ -335,6 +366,39 @@ impl Frustum {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn orient_agrees_with_big_integers_across_its_stages() {
+        // Camera frusta of many poses and scales: their side quads are
+        // coplanar up to rounding (the wide-integer stage), the other
+        // corners far off them (the static filter), and the tiny or huge
+        // scales leave the safe range (dynamic filter, big integers).
+        let exact = |p: DVec3, q: DVec3, r: DVec3, x: DVec3| dot(&cross(&diff::<Exact>(q, p), &diff::<Exact>(r, p)), &diff::<Exact>(x, p)).sign();
+        let mut zeros = 0;
+        for k in 0..400 {
+            let t = k as f64 * 0.37;
+            let scale = [1e-250, 1e-3, 1.0, 1e5, 1e250][k % 5];
+            let cam = Camera {
+                eye: DVec3::new(t.sin() * 30.0, 2.0 + t.cos(), 10.0 - t) * scale,
+                forward: DVec3::new(t.cos(), -0.3 + 0.1 * t.sin(), -1.0),
+                up: DVec3::Y,
+                fovy: 0.3 + (k % 7) as f64 * 0.3,
+                aspect: 1.0 + (k % 3) as f64 * 0.4,
+                near: 0.1 * scale,
+                far: (50.0 + k as f64) * scale,
+            };
+            let c = cam.corners().unwrap();
+            for quad in QUADS {
+                for x in 0..8 {
+                    let [a, b, d, _] = quad.map(|i| c[i as usize]);
+                    let want = exact(a, b, d, c[x]);
+                    assert_eq!(orient(a, b, d, c[x]), want, "pose {k}, quad {quad:?}, corner {x}");
+                    zeros += usize::from(want == 0);
+                }
+            }
+        }
+        assert!(zeros > 400, "exact zeros seen: {zeros}");
+    }
 
     fn unit_frustum() -> [DVec3; 8] {
         let mut c = [DVec3::ZERO; 8];

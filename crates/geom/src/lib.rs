@@ -42,6 +42,7 @@ mod frustum;
 mod number;
 mod plane;
 mod polytope;
+mod wide;
 
 pub use body::{focus_body, focus_body_exact_into, focus_body_into, focus_body_into_without_skip, Aabb, Body, Dimension, FocusStats, Light};
 pub use camera::{Camera, CameraBasis};
