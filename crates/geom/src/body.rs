@@ -171,6 +171,7 @@ pub struct Body {
     /// first use and kept, so that reusing a `Body` allocates nothing.
     work: Option<Box<Polytope>>,
     fast: Option<Box<CertifiedClipper>>,
+    plan: Option<Box<Plan>>,
     /// The inputs of the last successful computation.
     inputs: Option<(Frustum, Light, Aabb)>,
 }
@@ -207,6 +208,7 @@ impl Body {
             stats: FocusStats::default(),
             work: None,
             fast: None,
+            plan: None,
             inputs: None,
         }
     }
@@ -269,9 +271,10 @@ impl Body {
     pub fn exact(&self) -> Option<Box<Polytope>> {
         let (view, light, scene) = self.inputs?;
         let mut work = Box::new(Polytope::from_aabb(&scene));
-        match plan(&view, &light, &scene).ok()? {
-            Some(plan) => clip_exactly(&mut work, &plan).ok()?,
-            None => work.make_empty(),
+        let mut plan = Box::new(Plan::new());
+        match plan_into(&mut plan, &view, &light, &scene).ok()? {
+            true => clip_exactly(&mut work, &plan).ok()?,
+            false => work.make_empty(),
         }
         Some(work)
     }
@@ -322,32 +325,50 @@ pub fn focus_body(view: &Frustum, light: &Light, scene: &Aabb) -> Result<Body, G
 
 /// What the clipper is given: a box known to contain H, the halfspaces of
 /// `hull(V ∪ {l})`, and those of a spot light's frustum.
+#[derive(Clone)]
 struct Plan {
     start: Aabb,
     scene_clip_skipped: bool,
     hull: PlaneSet,
-    light_planes: Option<PlaneSet>,
+    /// `L`'s planes, for a spot light only.
+    spot: bool,
+    light_planes: PlaneSet,
 }
 
-/// `None` when H is certainly empty before any clipping.
-fn plan(view: &Frustum, light: &Light, scene: &Aabb) -> Result<Option<Plan>, GeomError> {
-    let Some((start, scene_clip_skipped)) = start_box(view, light, scene) else { return Ok(None) };
-    let hull = view.hull_with(light.apex())?;
-    let light_planes = match light {
-        Light::Spot { frustum, .. } => Some(frustum.planes()),
-        _ => None,
-    };
+impl Plan {
+    fn new() -> Plan {
+        Plan { start: Aabb { min: DVec3::ZERO, max: DVec3::ZERO }, scene_clip_skipped: false, hull: PlaneSet::new(), spot: false, light_planes: PlaneSet::new() }
+    }
+
+    fn light_planes(&self) -> Option<&PlaneSet> {
+        self.spot.then_some(&self.light_planes)
+    }
+}
+
+/// Fills `plan`; `false` when H is certainly empty before any clipping.
+///
+/// NOTE: written in place: the plane sets are a few kilobytes each, and
+/// returning them by value cost more than building them.
+fn plan_into(plan: &mut Plan, view: &Frustum, light: &Light, scene: &Aabb) -> Result<bool, GeomError> {
+    let Some((start, scene_clip_skipped)) = start_box(view, light, scene) else { return Ok(false) };
+    view.hull_into(light.apex(), &mut plan.hull)?;
+    plan.spot = false;
+    if let Light::Spot { frustum, .. } = light {
+        frustum.planes_into(&mut plan.light_planes);
+        plan.spot = true;
+    }
+    plan.start = start;
     // NOTE: a directional light's hull reaches past S whatever V does; a
     // point light's hull lies in S when V and the light do (convexity).
-    let scene_clip_skipped = scene_clip_skipped && !matches!(light, Light::Directional { .. });
-    Ok(Some(Plan { start, scene_clip_skipped, hull, light_planes }))
+    plan.scene_clip_skipped = scene_clip_skipped && !matches!(light, Light::Directional { .. });
+    Ok(true)
 }
 
 /// The exact engine: every decision exact, vertices kept unrounded.
 fn clip_exactly(work: &mut Polytope, plan: &Plan) -> Result<(), GeomError> {
     work.reset_to_aabb(&plan.start);
     work.clip_all(plan.hull.as_slice())?;
-    if let Some(l) = &plan.light_planes {
+    if let Some(l) = plan.light_planes() {
         work.clip_all(l.as_slice())?;
     }
     Ok(())
@@ -364,7 +385,7 @@ fn clip_certified(fast: &mut CertifiedClipper, plan: &Plan, view: &Frustum, ligh
     if step == Step::Solid && !plan.scene_clip_skipped {
         step = fast.clip_box(scene);
     }
-    if let (Step::Solid, Some(l)) = (step, &plan.light_planes) {
+    if let (Step::Solid, Some(l)) = (step, plan.light_planes()) {
         step = fast.clip_set(l, true);
     }
     step
@@ -410,30 +431,38 @@ fn compute(out: &mut Body, view: &Frustum, light: &Light, scene: &Aabb, float_pa
     light.validate()?;
     out.inputs = None;
     let mut stats = FocusStats { light_clip_skipped: !matches!(light, Light::Spot { .. }), ..FocusStats::default() };
-    let mut plan = match plan(view, light, scene) {
-        Ok(Some(plan)) => plan,
-        Ok(None) => {
+    let mut plan = out.plan.take().unwrap_or_else(|| Box::new(Plan::new()));
+    let nonempty = plan_into(&mut plan, view, light, scene);
+    let result = match nonempty {
+        Ok(true) => compute_planned(out, &mut plan, view, light, scene, float_path, skip, stats),
+        Ok(false) => {
             // The box around what can cast into V misses S: H is empty.
             out.clear();
             stats.early_exit = true;
             stats.float_path = float_path;
             out.stats = stats;
             out.inputs = Some((*view, *light, *scene));
-            return Ok(());
+            Ok(())
         }
         Err(e) => {
             out.clear();
-            return Err(e);
+            Err(e)
         }
     };
+    out.plan = Some(plan);
+    result
+}
+
+#[allow(clippy::too_many_arguments)]
+fn compute_planned(out: &mut Body, plan: &mut Plan, view: &Frustum, light: &Light, scene: &Aabb, float_path: bool, skip: bool, mut stats: FocusStats) -> Result<(), GeomError> {
     plan.scene_clip_skipped &= skip;
     stats.scene_clip_skipped = plan.scene_clip_skipped;
-    stats.planes_offered = (plan.hull.as_slice().len() + plan.light_planes.map_or(0, |l| l.as_slice().len())) as u16;
+    stats.planes_offered = (plan.hull.as_slice().len() + plan.light_planes().map_or(0, |l| l.as_slice().len())) as u16;
 
     let mut answered = false;
     if float_path {
         let mut fast = out.fast.take().unwrap_or_else(|| Box::new(CertifiedClipper::new()));
-        answered = match clip_certified(&mut fast, &plan, view, light, scene) {
+        answered = match clip_certified(&mut fast, plan, view, light, scene) {
             Step::Empty => {
                 out.clear();
                 stats.early_exit = true;
@@ -449,7 +478,7 @@ fn compute(out: &mut Body, view: &Frustum, light: &Light, scene: &Aabb, float_pa
         stats.float_path = true;
     } else {
         let mut work = out.work.take().unwrap_or_else(|| Box::new(Polytope::from_aabb(&plan.start)));
-        if let Err(e) = clip_exactly(&mut work, &plan) {
+        if let Err(e) = clip_exactly(&mut work, plan) {
             out.work = Some(work);
             out.clear();
             return Err(e);

@@ -81,6 +81,10 @@ impl PlaneSet {
             len: 0,
         }
     }
+    fn clear(&mut self) {
+        self.len = 0;
+        self.apex_coplanar = false;
+    }
     fn push(&mut self, p: Plane, through: u32, origin: Origin) {
         // Capacity: kept faces + horizon edges ≤ 12 + 12 for a frustum hull.
         self.planes[self.len] = p;
@@ -283,10 +287,16 @@ impl Frustum {
     /// The halfspaces whose intersection is the frustum.
     pub fn planes(&self) -> PlaneSet {
         let mut out = PlaneSet::new();
+        self.planes_into(&mut out);
+        out
+    }
+
+    /// [`Frustum::planes`] written into `out` (no copy of the set).
+    pub(crate) fn planes_into(&self, out: &mut PlaneSet) {
+        out.clear();
         for i in 0..self.face_count() {
             out.push(self.face_plane(i), corner_bits(self.face(i)), Origin::Face(i as u8));
         }
-        out
     }
 
     /// The halfspaces whose intersection is `hull(frustum ∪ {apex})`; for an
@@ -302,6 +312,14 @@ impl Frustum {
     /// A non-finite apex, or a point at infinity in the zero direction, is
     /// an error: the hull is not defined.
     pub fn hull_with(&self, apex: Apex) -> Result<PlaneSet, GeomError> {
+        let mut out = PlaneSet::new();
+        self.hull_into(apex, &mut out)?;
+        Ok(out)
+    }
+
+    /// [`Frustum::hull_with`] written into `out` (no copy of the set).
+    pub(crate) fn hull_into(&self, apex: Apex, out: &mut PlaneSet) -> Result<(), GeomError> {
+        out.clear();
         match apex {
             Apex::Finite(l) => check_finite(l, "hull apex")?,
             Apex::Infinite(d) => {
@@ -313,7 +331,6 @@ impl Frustum {
         }
         let n = self.face_count();
         let mut sees = [false; MAX_FRUSTUM_FACES];
-        let mut out = PlaneSet::new();
         for (i, seen) in sees.iter_mut().enumerate().take(n) {
             let f = self.face(i);
             let [a, b, c] = [self.corners[f[0] as usize], self.corners[f[1] as usize], self.corners[f[2] as usize]];
@@ -344,7 +361,7 @@ impl Frustum {
                 }
             }
         }
-        Ok(out)
+        Ok(())
     }
 
     fn face_with_edge(&self, a: u8, b: u8) -> Option<usize> {
