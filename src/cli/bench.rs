@@ -189,7 +189,7 @@ fn plots(dir: &Path, rows: &[Row]) -> Result<Vec<String>, String> {
 }
 
 fn stress_section(fixtures_dir: &Path) -> String {
-    let mut s = String::from("## Numerical stress\n\nEvery case is checked exactly (see `crates/eval/src/stress.rs`). \"rounded excess\": how far a corner of V ∩ S lies outside the reported (rounded) body's planes, relative to the input magnitude. \"maps ok\": fitted maps (uniform, PSM, LiSPSM, TSM, 4-split LiSPSM) whose clip volume contains their body. \"naive\": the f64 hull + ε-clip pipeline; \"naive lost\": corners of V ∩ S it excludes (decided exactly).\n\n");
+    let mut s = String::from("## Numerical stress\n\nEvery case is checked exactly (see `crates/eval/src/stress.rs`). \"oracle\": the exact body computed independently with big integers (`crates/eval/src/oracle.rs`: every halfspace of M, S and L, every vertex by exact three-plane intersection); its dimension and vertex count, marked ≠ where ours differ. \"vertex error\": the distance between our rounded vertices and the exact ones (both ways), relative to the input magnitude. \"violations\": corners of V ∩ S outside the exact body (decided exactly by the oracle). \"rounded excess\": how far a corner of V ∩ S or an exact vertex lies outside the reported (rounded) body's planes, relative to the input magnitude. \"maps ok\": fitted maps (uniform, PSM, LiSPSM, TSM, 4-split LiSPSM) whose clip volume contains their body. \"naive\": the f64 hull + ε-clip pipeline; \"naive lost\": corners of V ∩ S it excludes (decided exactly).\n\n");
     s.push_str(&stress::report_markdown(&stress::run_all()));
     s.push_str("\n## Against the exact (CGAL) fixtures\n\n");
     match fixtures::compare_all(fixtures_dir) {
