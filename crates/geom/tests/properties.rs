@@ -737,7 +737,7 @@ proptest! {
         prop_assert!(!exact.stats().float_path);
         prop_assert_eq!(fast.dimension(), exact.dimension());
         prop_assert_eq!(fast.vertices().len(), exact.vertices().len(), "vertex counts differ ({:?} path)", fast.stats().float_path);
-        let mut sizes = |b: &Body| { let mut v: Vec<usize> = b.faces().map(|f| f.len()).collect(); v.sort(); v };
+        let sizes = |b: &Body| { let mut v: Vec<usize> = b.faces().map(|f| f.len()).collect(); v.sort(); v };
         prop_assert_eq!(sizes(&fast), sizes(&exact), "face sizes differ");
         // NOTE: the tolerance follows the largest input (a light 1e15 away
         // makes it large), so vertices are paired with their nearest unused
