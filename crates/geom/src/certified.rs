@@ -355,7 +355,10 @@ impl CertifiedClipper {
         self.n_verts = 0;
         self.cuts = 0;
         self.folds = [None; 4];
-        if hull.apex_coplanar || hull.as_slice().len() + 1 > MAX_FAST_PLANES {
+        // NOTE: beneath–beyond takes the frustum's faces as the hull's; when
+        // faces are coplanar the hull's faces differ (merged, with corners
+        // inside them), so such frusta go to the exact engine.
+        if hull.apex_coplanar || !view.faces_are_hull_faces() || hull.as_slice().len() + 1 > MAX_FAST_PLANES {
             return Step::Uncertain;
         }
         let corners = view.corners();

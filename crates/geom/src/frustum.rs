@@ -33,6 +33,11 @@ pub struct Frustum {
     faces: [[u8; 4]; MAX_FRUSTUM_FACES],
     faces_len: [u8; MAX_FRUSTUM_FACES],
     n_faces: u8,
+    /// Some corner lies in the plane of a face it does not belong to (a
+    /// face and a neighbouring triangle coplanar): the face list is then not
+    /// the hull's face structure — the hull merges those faces, and a corner
+    /// may lie inside a face — although every face is a valid halfspace.
+    coplanar_faces: bool,
 }
 
 /// A light as a homogeneous point: finite, or at infinity in a direction.
@@ -213,7 +218,7 @@ impl Frustum {
         if hand == 0 {
             return Err(GeomError::DegenerateFrustum { what, reason: "all corners are coplanar" });
         }
-        let mut f = Frustum { corners, faces: [[0; 4]; MAX_FRUSTUM_FACES], faces_len: [0; MAX_FRUSTUM_FACES], n_faces: 0 };
+        let mut f = Frustum { corners, faces: [[0; 4]; MAX_FRUSTUM_FACES], faces_len: [0; MAX_FRUSTUM_FACES], n_faces: 0, coplanar_faces: false };
         for quad in QUADS {
             // A left-handed corner order mirrors every face: reverse the cycles.
             let [a, b, c, d] = if hand < 0 { quad } else { [quad[0], quad[3], quad[2], quad[1]] };
@@ -250,6 +255,7 @@ impl Frustum {
                     return Err(GeomError::DegenerateFrustum { what, reason: "corners are not in convex position (twisted or non-convex frustum)" });
                 }
                 strictly_inside |= s < 0;
+                f.coplanar_faces |= s == 0;
             }
             if !strictly_inside {
                 return Err(GeomError::DegenerateFrustum { what, reason: "a face is degenerate (coincident or collinear corners)" });
@@ -263,6 +269,12 @@ impl Frustum {
         self.faces[i][..idx.len()].copy_from_slice(idx);
         self.faces_len[i] = idx.len() as u8;
         self.n_faces += 1;
+    }
+
+    /// Whether the faces are exactly the hull's faces: no corner lies in the
+    /// plane of a face it is not part of.
+    pub(crate) fn faces_are_hull_faces(&self) -> bool {
+        !self.coplanar_faces
     }
 
     /// Face `i` as corner indices, counter-clockwise from outside.

@@ -892,14 +892,16 @@ impl std::ops::Deref for HalfspaceBuf {
 
 /// Exact side of an explicit point w.r.t. a plane: −1 inside, 0 on, +1 outside.
 pub(crate) fn point_side(plane: &Plane, x: DVec3) -> i8 {
-    if let Some(s) = plane.eval_at::<Filtered>(x).sign() {
-        return s;
+    // NOTE: for a plane through three points this is an orientation, whose
+    // own static filter is as tight as the dynamic one and cheaper, and
+    // whose exact stages are far cheaper than big integers on the
+    // near-coplanar corners of a frustum side.
+    if let Plane::Points([p, q, r]) = *plane {
+        return crate::frustum::orient(p, q, r, x);
     }
-    match *plane {
-        // The adaptive orientation predicate is exact and much cheaper than
-        // big integers on the near-coplanar corners of a frustum side.
-        Plane::Points([p, q, r]) => crate::frustum::orient(p, q, r, x),
-        _ => plane.eval_at::<Exact>(x).sign(),
+    match plane.eval_at::<Filtered>(x).sign() {
+        Some(s) => s,
+        None => plane.eval_at::<Exact>(x).sign(),
     }
 }
 

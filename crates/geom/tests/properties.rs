@@ -1111,3 +1111,65 @@ fn float_path_answers_general_position_frames() {
         assert!(body.stats().float_path, "{light:?} went to the exact engine");
     }
 }
+
+/// Exact coincidences built on purpose, where a fast path is most likely to
+/// take a wrong turn: small dyadic frusta (jittered by quarters, so creased
+/// sides occur; every fourth frustum has a far corner pulled into the near
+/// plane, a corner lying in another face's plane), and lights placed
+/// exactly in the plane of three corners (`a + s(b − a) + t(c − a)` with small
+/// integers, exact in f64) or travelling exactly parallel to it, with scenes
+/// that cut the hull or not. Whichever engine answers, the body must be the
+/// exact engine's: dimension, vertex count and face sizes.
+#[test]
+fn exactly_coplanar_lights_and_faces_give_the_exact_engines_body() {
+    let mut state = 0x5eed_u64;
+    let mut next = move || {
+        state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    };
+    let sizes = |b: &Body| {
+        let mut v: Vec<usize> = b.faces().map(|f| f.len()).collect();
+        v.sort_unstable();
+        v
+    };
+    let (mut checked, mut on_float_path) = (0, 0);
+    for case in 0..6000 {
+        let mut c = [DVec3::ZERO; 8];
+        let half_near = 1.0 + (next() % 4) as f64;
+        let near = -1.0 - (next() % 2) as f64;
+        for (k, (h, z)) in [(half_near, near), (3.0 * half_near, -8.0)].into_iter().enumerate() {
+            for (i, (x, y)) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)].into_iter().enumerate() {
+                let mut jitter = || ((next() % 5) as f64 - 2.0) * 0.25;
+                c[4 * k + i] = DVec3::new(x * h + jitter(), y * h + jitter(), z + jitter());
+            }
+        }
+        if case % 4 == 3 {
+            // A far corner pulled into the near plane: a creased side then
+            // has a triangle coplanar with the near face.
+            c[4 + (next() % 4) as usize].z = near;
+        }
+        let Ok(view) = Frustum::from_corners(c) else { continue };
+        let [a, b, p] = [0; 3].map(|_| c[(next() % 8) as usize]);
+        let (s, t) = ((next() % 9) as f64 - 4.0, (next() % 9) as f64 - 4.0);
+        let light = match case % 3 {
+            0 | 1 => Light::point(a + (b - a) * s + (p - a) * t),
+            _ => Light::directional((b - a) * s + (p - a) * t),
+        };
+        let Ok(light) = light else { continue };
+        let top = if case % 2 == 0 { 100.0 } else { -1.0 - 2.0 * (next() % 4) as f64 };
+        let scene = Aabb::new(DVec3::splat(-100.0), DVec3::new(100.0, 100.0, top)).unwrap();
+        let body = focus_body(&view, &light, &scene).unwrap();
+        let mut reference = Body::new();
+        focus_body_exact_into(&mut reference, &view, &light, &scene).unwrap();
+        assert_eq!(body.dimension(), reference.dimension(), "case {case}: {c:?} {light:?} {scene:?}");
+        assert_eq!(body.vertices().len(), reference.vertices().len(), "case {case}: {c:?} {light:?} {scene:?}\n{body:?}\n{reference:?}");
+        assert_eq!(sizes(&body), sizes(&reference), "case {case}: {c:?} {light:?} {scene:?}");
+        checked += 1;
+        on_float_path += usize::from(body.stats().float_path);
+    }
+    // Both engines are exercised: the search is not vacuous.
+    assert!(checked > 4000 && on_float_path > 1000 && checked - on_float_path > 1000, "checked {checked}, float path {on_float_path}");
+}

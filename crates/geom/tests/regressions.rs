@@ -217,3 +217,32 @@ fn clip_with_orientation_outside_the_safe_range() {
     assert!(p.contains_point(DVec3::new(e, e, e)));
     assert!(segment.contains(&p).unwrap() && p.contains(&segment).unwrap());
 }
+
+/// Found by the `body_api` fuzz target: a frustum whose far corner 7 lies in
+/// the near plane (y = −1082182204), so the near face and one triangle of
+/// the creased left side are coplanar and near corner 3 lies inside the
+/// merged face. Beneath–beyond over the frustum's faces kept corner 3 as a
+/// ninth vertex; the exact body (checked independently) has eight.
+#[test]
+fn coplanar_frustum_faces_do_not_add_a_vertex() {
+    let c = [
+        DVec3::new(-473731958.0625, -1082182204.0, 16.9375),
+        DVec3::new(-473731958.0625, -1082182204.0, -14.9375),
+        DVec3::new(-473731989.9375, -1082182204.0, -14.9375),
+        DVec3::new(-473731989.9375, -1082182204.0, 16.9375),
+        DVec3::new(-473731942.125, -1082182203.0, 32.875),
+        DVec3::new(-473731942.125, -1082182203.0, -30.875),
+        DVec3::new(-473732005.875, -1082182203.0, -30.875),
+        DVec3::new(-473732006.875, -1082182204.0, 96.875),
+    ];
+    let view = Frustum::from_corners(c).unwrap();
+    let light = Light::point(DVec3::new(-1.0, 32451.0, -1.0)).unwrap();
+    let scene = Aabb::new(DVec3::new(-473732006.875, -1082182204.0, -30.875), DVec3::new(-473731942.125, -1082182203.0, 96.875)).unwrap();
+    let body = focus_body(&view, &light, &scene).unwrap();
+    let mut reference = Body::new();
+    shadowfocus_geom::focus_body_exact_into(&mut reference, &view, &light, &scene).unwrap();
+    assert_eq!(body.dimension(), Dimension::Solid);
+    assert_eq!(body.vertices().len(), 8, "{body:?}");
+    assert_eq!(reference.vertices().len(), 8, "{reference:?}");
+    assert!(!body.vertices().contains(&c[3]), "corner 3 lies inside a face, it is no vertex: {body:?}");
+}
