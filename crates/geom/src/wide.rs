@@ -175,7 +175,7 @@ mod tests {
             let s = 2f64.powi((rng.next() % 41) as i32 - 20);
             let o = [rng.unit(), rng.unit(), rng.unit()].map(|v| v * s * 8.0);
             let (u, v) = ([rng.unit(), rng.unit(), rng.unit()], [rng.unit(), rng.unit(), rng.unit()]);
-            let mut pt = |a: f64, b: f64| [0, 1, 2].map(|i| o[i] + (a * u[i] + b * v[i]) * s);
+            let pt = |a: f64, b: f64| [0, 1, 2].map(|i| o[i] + (a * u[i] + b * v[i]) * s);
             let (p, q, r) = (pt(0.0, 0.0), pt(1.0, 0.0), pt(0.0, 1.0));
             let x = if k % 3 == 0 { pt(1.0, 1.0) } else { let (a, b) = (rng.unit(), rng.unit()); pt(a, b) };
             // Exactly coplanar too: a point repeated, or the midpoint of two.
