@@ -121,16 +121,26 @@ fn corner_bits(idx: &[u8]) -> u32 {
 /// their nearly coplanar side faces would otherwise cost an adaptive
 /// predicate its slowest stage; else an adaptive predicate or big integers.
 pub(crate) fn orient(p: DVec3, q: DVec3, r: DVec3, x: DVec3) -> i8 {
+    orient_checked(p, q, r, x, in_safe_range(p) && in_safe_range(q) && in_safe_range(r) && in_safe_range(x))
+}
+
+/// Whether every coordinate is 0 or within [2^-200, 2^200].
+///
+/// NOTE: in that range no product of an orientation determinant can
+/// overflow or underflow, so a static error bound and the adaptive
+/// predicate are exact. Outside it any of their results may be wrong (an
+/// infinity, a false zero, a false sign from underflowed products): there
+/// the dynamic filter and big integers decide.
+#[inline]
+fn in_safe_range(v: DVec3) -> bool {
+    v.to_array().iter().all(|c| *c == 0.0 || (c.abs() >= 2f64.powi(-200) && c.abs() <= 2f64.powi(200)))
+}
+
+/// [`orient`] with the range test done by the caller (once per frustum).
+fn orient_checked(p: DVec3, q: DVec3, r: DVec3, x: DVec3, in_range: bool) -> i8 {
     fn eval<T: Ring>(p: DVec3, q: DVec3, r: DVec3, x: DVec3) -> T {
         dot(&cross(&diff::<T>(q, p), &diff::<T>(r, p)), &diff::<T>(x, p))
     }
-    // NOTE: with every coordinate 0 or within [2^-200, 2^200], no product
-    // below can overflow or underflow, so the static bound and the adaptive
-    // predicate are exact. Outside that range any of their results may be
-    // wrong (an infinity, a false zero, a false sign from underflowed
-    // products): there the dynamic filter and big integers decide.
-    let safe = |v: DVec3| v.to_array().iter().all(|c| *c == 0.0 || (c.abs() >= 2f64.powi(-200) && c.abs() <= 2f64.powi(200)));
-    let in_range = safe(p) && safe(q) && safe(r) && safe(x);
     let filtered = if in_range { orient_static(p, q, r, x) } else { eval::<Filtered>(p, q, r, x).sign() };
     if let Some(s) = filtered {
         return s;
@@ -206,6 +216,9 @@ impl Frustum {
         for c in &corners {
             check_finite(*c, "frustum corner")?;
         }
+        // Every orientation below is among corners: test their range once.
+        let in_range = corners.iter().all(|c| in_safe_range(*c));
+        let orient = |p: DVec3, q: DVec3, r: DVec3, x: DVec3| orient_checked(p, q, r, x, in_range);
         // Handedness: the far corners must lie inside the near face.
         let [c0, c1, c2, _, c4, c5, c6, c7] = corners;
         let mut hand = 0;
