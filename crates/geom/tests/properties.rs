@@ -1122,14 +1122,8 @@ fn float_path_answers_general_position_frames() {
 /// exact engine's: dimension, vertex count and face sizes.
 #[test]
 fn exactly_coplanar_lights_and_faces_give_the_exact_engines_body() {
-    let mut state = 0x5eed_u64;
-    let mut next = move || {
-        state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    };
+    let mut rng = proptest::test_runner::TestRng::deterministic_rng(proptest::test_runner::RngAlgorithm::ChaCha);
+    let mut next = move || rng.next_u64();
     let sizes = |b: &Body| {
         let mut v: Vec<usize> = b.faces().map(|f| f.len()).collect();
         v.sort_unstable();
