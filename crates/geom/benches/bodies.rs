@@ -4,10 +4,11 @@
 //!
 //! `cargo bench -p shadowfocus-geom --bench bodies`
 
-use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use criterion::measurement::WallTime;
+use criterion::{criterion_group, criterion_main, BenchmarkGroup, Criterion, Throughput};
 use glam::DVec3;
 use serde_json::Value;
-use shadowfocus_geom::{focus_body_exact_into, focus_body_into, focus_body_into_without_skip, Aabb, Body, Frustum, Light};
+use shadowfocus_geom::{focus_body_exact_into, focus_body_into, focus_body_into_without_skip, Aabb, Body, Frustum, GeomError, Light};
 use std::hint::black_box;
 use std::path::Path;
 
@@ -50,20 +51,29 @@ fn load(name: &str) -> Vec<Case> {
         .collect()
 }
 
+/// One of the body entry points (`focus_body_into` and its variants).
+type Engine = fn(&mut Body, &Frustum, &Light, &Aabb) -> Result<(), GeomError>;
+
+/// Times `engine` over every case, reusing one `Body` (as an engine would
+/// across frames); throughput is counted in bodies.
+fn bench_engine(group: &mut BenchmarkGroup<WallTime>, name: &str, body: &mut Body, cases: &[&Case], engine: Engine) {
+    group.throughput(Throughput::Elements(cases.len().max(1) as u64));
+    group.bench_function(name, |b| {
+        b.iter(|| {
+            for case in cases {
+                let _ = engine(body, &case.view, &case.light, &case.scene);
+            }
+        })
+    });
+}
+
 fn bench(c: &mut Criterion) {
     let sets = ["directional", "point", "spot", "scene", "extreme"].map(|n| (n, load(n)));
     let mut group = c.benchmark_group("focus_body");
     group.sample_size(20).measurement_time(std::time::Duration::from_secs(3));
     let mut body = Body::new();
     for (name, cases) in &sets {
-        group.throughput(Throughput::Elements(cases.len() as u64));
-        group.bench_function(*name, |b| {
-            b.iter(|| {
-                for case in cases {
-                    let _ = focus_body_into(&mut body, &case.view, &case.light, &case.scene);
-                }
-            })
-        });
+        bench_engine(&mut group, name, &mut body, &cases.iter().collect::<Vec<_>>(), focus_body_into);
     }
     let mixed: Vec<&Case> = sets.iter().flat_map(|(_, c)| c.iter()).collect();
     group.throughput(Throughput::Elements(mixed.len() as u64));
@@ -94,38 +104,12 @@ fn bench(c: &mut Criterion) {
         })
         .collect();
     eprintln!("scene-clip skip applies to {} of {} cases", skippable.len(), mixed.len());
-    group.throughput(Throughput::Elements(skippable.len().max(1) as u64));
-    group.bench_function("skippable_cases_with_skip", |b| {
-        b.iter(|| {
-            for case in &skippable {
-                let _ = focus_body_into(&mut body, &case.view, &case.light, &case.scene);
-            }
-        })
-    });
-    group.bench_function("skippable_cases_without_skip", |b| {
-        b.iter(|| {
-            for case in &skippable {
-                let _ = focus_body_into_without_skip(&mut body, &case.view, &case.light, &case.scene);
-            }
-        })
-    });
+    bench_engine(&mut group, "skippable_cases_with_skip", &mut body, &skippable, focus_body_into);
+    bench_engine(&mut group, "skippable_cases_without_skip", &mut body, &skippable, focus_body_into_without_skip);
     // What the floating-point path saves: the same cases through the exact
     // engine alone.
-    group.throughput(Throughput::Elements(mixed.len() as u64));
-    group.bench_function("mixed_exact_engine_only", |b| {
-        b.iter(|| {
-            for case in &mixed {
-                let _ = focus_body_exact_into(&mut body, &case.view, &case.light, &case.scene);
-            }
-        })
-    });
-    group.bench_function("mixed", |b| {
-        b.iter(|| {
-            for case in &mixed {
-                let _ = focus_body_into(&mut body, &case.view, &case.light, &case.scene);
-            }
-        })
-    });
+    bench_engine(&mut group, "mixed_exact_engine_only", &mut body, &mixed, focus_body_exact_into);
+    bench_engine(&mut group, "mixed", &mut body, &mixed, focus_body_into);
     // The usual engine approach for comparison: parry's epsilon-based hull
     // of the 8 corners and the light (point lights only; no clipping).
     let points = &sets[1].1;
