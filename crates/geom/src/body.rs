@@ -165,7 +165,6 @@ pub struct Body {
     pub(crate) face_start: [u16; MAX_FACES + 1],
     pub(crate) face_planes: [DVec4; MAX_FACES],
     pub(crate) n_faces: usize,
-    pub(crate) volume: f64,
     pub(crate) stats: FocusStats,
     /// Scratch space for the exact engine and the fast path, allocated on
     /// first use and kept, so that reusing a `Body` allocates nothing.
@@ -188,7 +187,7 @@ impl std::fmt::Debug for Body {
             .field("dimension", &self.dimension())
             .field("vertices", &self.vertices())
             .field("faces", &self.faces().collect::<Vec<_>>())
-            .field("volume", &self.volume)
+            .field("volume", &self.volume())
             .finish()
     }
 }
@@ -204,7 +203,6 @@ impl Body {
             face_start: [0; MAX_FACES + 1],
             face_planes: [DVec4::ZERO; MAX_FACES],
             n_faces: 0,
-            volume: 0.0,
             stats: FocusStats::default(),
             work: None,
             fast: None,
@@ -217,7 +215,6 @@ impl Body {
         self.dim = -1;
         self.n_verts = 0;
         self.n_faces = 0;
-        self.volume = 0.0;
     }
 
     pub fn dimension(&self) -> Dimension {
@@ -255,8 +252,11 @@ impl Body {
     }
 
     /// Volume from the rounded vertices (0 unless solid).
+    ///
+    /// NOTE: computed on request (a few hundred flops) rather than with
+    /// every body: fitting a shadow map never needs it.
     pub fn volume(&self) -> f64 {
-        self.volume
+        self.compute_volume()
     }
 
     pub fn stats(&self) -> &FocusStats {
@@ -284,7 +284,7 @@ impl Body {
         Aabb::around(self.vertices())
     }
 
-    pub(crate) fn compute_volume(&self) -> f64 {
+    fn compute_volume(&self) -> f64 {
         if self.dim != 3 || self.n_verts == 0 {
             return 0.0;
         }

@@ -1045,7 +1045,6 @@ impl CertifiedClipper {
         }
         out.face_start[self.n_faces] = ni as u16;
         out.n_faces = self.n_faces;
-        out.volume = out.compute_volume();
         true
     }
 }

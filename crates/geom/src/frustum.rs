@@ -38,6 +38,8 @@ pub struct Frustum {
     /// the hull's face structure — the hull merges those faces, and a corner
     /// may lie inside a face — although every face is a valid halfspace.
     coplanar_faces: bool,
+    /// Every corner is in the safe range of the static filters.
+    in_range: bool,
 }
 
 /// A light as a homogeneous point: finite, or at infinity in a direction.
@@ -46,6 +48,15 @@ pub enum Apex {
     Finite(DVec3),
     /// The point at infinity reached by travelling along this direction.
     Infinite(DVec3),
+}
+
+impl Apex {
+    /// The position, or the direction of a point at infinity.
+    fn coordinates(self) -> DVec3 {
+        match self {
+            Apex::Finite(v) | Apex::Infinite(v) => v,
+        }
+    }
 }
 
 /// Bit of the hull apex in [`PlaneSet::through`] (bits 0–7 are corners).
@@ -188,11 +199,62 @@ fn orient_static(p: DVec3, q: DVec3, r: DVec3, x: DVec3) -> Option<i8> {
     }
 }
 
+/// [`orient`]'s static filter with the work that depends only on the plane
+/// `p, q, r` done once, for testing many points against one face.
+///
+/// NOTE: `(x − p) · ((q − p) × (r − p))` is the determinant of three rounded
+/// differences expanded into 2×2 minors, as in [`orient_static`] (there along
+/// a row, here along a column: the same terms), so the same bound holds.
+/// Valid only for inputs in the safe range.
+struct FaceFilter {
+    p: DVec3,
+    normal: DVec3,
+    abs_normal: DVec3,
+}
+
+impl FaceFilter {
+    fn new(p: DVec3, q: DVec3, r: DVec3) -> FaceFilter {
+        let (a, b) = (q - p, r - p);
+        let (aa, ba) = (a.abs(), b.abs());
+        let abs_normal = DVec3::new(aa.y * ba.z + aa.z * ba.y, aa.z * ba.x + aa.x * ba.z, aa.x * ba.y + aa.y * ba.x);
+        FaceFilter { p, normal: a.cross(b), abs_normal }
+    }
+
+    #[inline]
+    fn side(&self, x: DVec3) -> Option<i8> {
+        self.side_of_direction(x - self.p)
+    }
+
+    /// The sign of `d · ((q − p) × (r − p))`: for a direction `d`, whether
+    /// the point at infinity along it lies on the outer side.
+    ///
+    /// NOTE: with `d` exact (a direction, not a rounded difference) the
+    /// determinant carries one rounding fewer, so the bound holds with room.
+    #[inline]
+    fn side_of_direction(&self, d: DVec3) -> Option<i8> {
+        const EPS: f64 = f64::EPSILON / 2.0;
+        const BOUND: f64 = (7.0 + 56.0 * EPS) * EPS;
+        let det = self.normal.dot(d);
+        let bound = BOUND * self.abs_normal.dot(d.abs());
+        if det > bound {
+            Some(1)
+        } else if -det > bound {
+            Some(-1)
+        } else {
+            None
+        }
+    }
+}
+
 /// Sign of `((q − p) × (r − p)) · dir`: whether the point at infinity in
 /// `dir` lies on the outer side of the triangle's plane.
-pub(crate) fn orient_direction(p: DVec3, q: DVec3, r: DVec3, dir: DVec3) -> i8 {
+/// `in_range`: every input is in the static filters' safe range.
+fn orient_direction(p: DVec3, q: DVec3, r: DVec3, dir: DVec3, in_range: bool) -> i8 {
     fn eval<T: Ring>(p: DVec3, q: DVec3, r: DVec3, dir: DVec3) -> T {
         dot(&cross(&diff::<T>(q, p), &diff::<T>(r, p)), &lift::<T>(dir))
+    }
+    if let Some(s) = in_range.then(|| FaceFilter::new(p, q, r).side_of_direction(dir)).flatten() {
+        return s;
     }
     match eval::<Filtered>(p, q, r, dir).sign() {
         Some(s) => s,
@@ -231,11 +293,14 @@ impl Frustum {
         if hand == 0 {
             return Err(GeomError::DegenerateFrustum { what, reason: "all corners are coplanar" });
         }
-        let mut f = Frustum { corners, faces: [[0; 4]; MAX_FRUSTUM_FACES], faces_len: [0; MAX_FRUSTUM_FACES], n_faces: 0, coplanar_faces: false };
+        let mut f = Frustum { corners, faces: [[0; 4]; MAX_FRUSTUM_FACES], faces_len: [0; MAX_FRUSTUM_FACES], n_faces: 0, coplanar_faces: false, in_range };
+        // Per face: the corners of the quad it comes from.
+        let mut quad_corners = [0u8; MAX_FRUSTUM_FACES];
         for quad in QUADS {
             // A left-handed corner order mirrors every face: reverse the cycles.
             let [a, b, c, d] = if hand < 0 { quad } else { [quad[0], quad[3], quad[2], quad[1]] };
             let p = |i: u8| corners[i as usize];
+            let first = f.n_faces as usize;
             // Fold along the diagonal that keeps the surface convex: if d is
             // on the inner side of plane(a, b, c) the edge a–c is convex.
             match orient(p(a), p(b), p(c), p(d)) {
@@ -249,6 +314,7 @@ impl Frustum {
                     f.push_face(&[b, c, d]);
                 }
             }
+            quad_corners[first..f.n_faces as usize].fill(corner_bits(&quad) as u8);
         }
         // Convexity: every face plane has all corners on its closed inner
         // side and at least one strictly inside (no flat or twisted hull).
@@ -257,13 +323,13 @@ impl Frustum {
         for i in 0..f.n_faces as usize {
             let face = f.face(i);
             let (a, b, c) = (corners[face[0] as usize], corners[face[1] as usize], corners[face[2] as usize]);
-            let quad = QUADS.iter().find(|q| face.iter().all(|v| q.contains(v))).expect("faces come from quads");
+            let plane = FaceFilter::new(a, b, c);
             let mut strictly_inside = false;
             for (k, &x) in corners.iter().enumerate() {
-                if quad.contains(&(k as u8)) {
+                if quad_corners[i] & 1 << k != 0 {
                     continue;
                 }
-                let s = orient(a, b, c, x);
+                let s = in_range.then(|| plane.side(x)).flatten().unwrap_or_else(|| orient(a, b, c, x));
                 if s > 0 {
                     return Err(GeomError::DegenerateFrustum { what, reason: "corners are not in convex position (twisted or non-convex frustum)" });
                 }
@@ -355,13 +421,14 @@ impl Frustum {
             }
         }
         let n = self.face_count();
+        let in_range = self.in_range && in_safe_range(apex.coordinates());
         let mut sees = [false; MAX_FRUSTUM_FACES];
         for (i, seen) in sees.iter_mut().enumerate().take(n) {
             let f = self.face(i);
             let [a, b, c] = [self.corners[f[0] as usize], self.corners[f[1] as usize], self.corners[f[2] as usize]];
             let side = match apex {
-                Apex::Finite(l) => orient(a, b, c, l),
-                Apex::Infinite(dir) => orient_direction(a, b, c, dir),
+                Apex::Finite(l) => orient_checked(a, b, c, l, in_range),
+                Apex::Infinite(dir) => orient_direction(a, b, c, dir, in_range),
             };
             *seen = side > 0;
             out.apex_coplanar |= side == 0;

@@ -750,7 +750,7 @@ impl Polytope {
         Ok(())
     }
 
-    /// Writes the rounded polytope into `out` (vertices, faces, planes, volume).
+    /// Writes the rounded polytope into `out` (vertices, faces, planes).
     pub(crate) fn write_rounded(&mut self, out: &mut crate::body::Body) {
         out.clear();
         out.dim = self.dim;
@@ -786,7 +786,6 @@ impl Polytope {
             }
             _ => out.n_faces = 0,
         }
-        out.volume = out.compute_volume();
     }
 
     /// Filtered rounding of `X/W`; false when the proven error is too large.

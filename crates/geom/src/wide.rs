@@ -4,74 +4,47 @@
 //! rounding, so the fold test `orient3d(a, b, c, d)` is near zero or zero
 //! every time, and an adaptive predicate ends in its slowest, fully exact
 //! stage (≈ 0.5–1 µs, for the four to six quads of every frustum). Here the
-//! same determinant is evaluated exactly in 256-bit integers whenever the
-//! twelve coordinates share a narrow exponent range, which is the usual
-//! case for frustum corners; otherwise the caller falls back.
+//! same determinant is evaluated exactly in integers whenever the twelve
+//! coordinates share a narrow exponent range, which is the usual case for
+//! frustum corners; otherwise the caller falls back.
 //!
 //! Bit budget: every coordinate is `m · 2^e` with `|m| < 2^53`. Scaled by
 //! `2^-e_min` and with `e − e_min ≤ MAX_SPREAD`, it is an integer below
 //! `2^(53 + MAX_SPREAD)` = 2^76; differences stay below 2^77, a 2×2 minor
-//! below 2^155, and the determinant (three minor × difference products)
-//! below 2^234 — inside a signed 256-bit integer, so arithmetic modulo
-//! 2^256 gives the exact value.
+//! below 2^155 and the determinant below 2^234. Products are formed from
+//! 39-bit limbs so that every partial sum fits an `i128`, and the sign is
+//! read after carrying the low limbs upward.
 
 /// Largest exponent spread between the twelve coordinates.
 const MAX_SPREAD: i32 = 23;
 
-/// A 256-bit two's-complement integer, little-endian limbs. All arithmetic
-/// wraps modulo 2^256; callers keep the true values in range.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct I256([u64; 4]);
+/// Limb width of the split products: a difference below 2^77 splits into
+/// a signed high part below 2^38 and a low part in [0, 2^39).
+const LIMB: u32 = 39;
 
-impl I256 {
-    fn from_i128(v: i128) -> I256 {
-        let ext = if v < 0 { u64::MAX } else { 0 };
-        I256([v as u64, (v >> 64) as u64, ext, ext])
-    }
+/// `d = hi · 2^39 + lo` with `0 ≤ lo < 2^39` (arithmetic shift).
+#[inline]
+fn limbs(d: i128) -> (i128, i128) {
+    let hi = d >> LIMB;
+    (hi, d - (hi << LIMB))
+}
 
-    fn add(self, o: I256) -> I256 {
-        let mut r = [0u64; 4];
-        let mut carry = false;
-        for (i, limb) in r.iter_mut().enumerate() {
-            let (s, c1) = self.0[i].overflowing_add(o.0[i]);
-            let (s, c2) = s.overflowing_add(carry as u64);
-            *limb = s;
-            carry = c1 || c2;
-        }
-        I256(r)
-    }
-
-    fn neg(self) -> I256 {
-        I256(self.0.map(|l| !l)).add(I256([1, 0, 0, 0]))
-    }
-
-    fn sub(self, o: I256) -> I256 {
-        self.add(o.neg())
-    }
-
-    /// The product modulo 2^256 (schoolbook on the limbs that reach it).
-    fn mul(self, o: I256) -> I256 {
-        let mut r = [0u64; 4];
-        for i in 0..4 {
-            let mut carry = 0u128;
-            for j in 0..4 - i {
-                let t = self.0[i] as u128 * o.0[j] as u128 + r[i + j] as u128 + carry;
-                r[i + j] = t as u64;
-                carry = t >> 64;
-            }
-        }
-        I256(r)
-    }
-
-    fn sign(self) -> i8 {
-        if self.0[3] >> 63 == 1 {
-            -1
-        } else if self.0 == [0; 4] {
-            0
-        } else {
-            1
-        }
-    }
+/// A 2×2 minor `x0·y1 − x1·y0` of differences below 2^77, exactly, as
+/// `(a, b)` with value `a · 2^78 + b` and `0 ≤ b < 2^78`.
+///
+/// NOTE: each product of split differences is `hi·hi·2^78 + (hi·lo + lo·hi)·2^39
+/// + lo·lo`; the high parts stay below 2^77 and the rest below 2^118, so
+/// every partial sum fits an `i128` with room, and one carry normalises `b`.
+#[inline]
+fn minor(x0: i128, y1: i128, x1: i128, y0: i128) -> (i128, i128) {
+    let product = |x: i128, y: i128| {
+        let ((xh, xl), (yh, yl)) = (limbs(x), limbs(y));
+        (xh * yh, ((xh * yl + xl * yh) << LIMB) + xl * yl)
+    };
+    let ((a1, b1), (a0, b0)) = (product(x0, y1), product(x1, y0));
+    let (a, b) = (a1 - a0, b1 - b0);
+    let carry = b >> (2 * LIMB);
+    (a + carry, b - (carry << (2 * LIMB)))
 }
 
 /// `(m, e)` with `x = m · 2^e`, `|m| < 2^53`; `None` for zero.
@@ -88,16 +61,19 @@ fn split(x: f64) -> Option<(i64, i32)> {
 
 /// Sign of `det[q − p, r − p, x − p]` (the orientation of `x` against the
 /// plane through `p, q, r`, with the sign convention of a plain
-/// determinant), or `None` when the coordinates span too many binades for
-/// 256 bits. Inputs must be finite.
+/// determinant), or `None` when the coordinates span too many binades.
+/// Inputs must be finite.
 pub(crate) fn orient_det_sign(p: [f64; 3], q: [f64; 3], r: [f64; 3], x: [f64; 3]) -> Option<i8> {
     let coords = [p, q, r, x];
-    let mut e_min = i32::MAX;
-    let mut e_max = i32::MIN;
-    for c in coords.iter().flatten() {
-        if let Some((_, e)) = split(*c) {
-            e_min = e_min.min(e);
-            e_max = e_max.max(e);
+    let mut parts = [[(0i64, 0i32); 3]; 4];
+    let (mut e_min, mut e_max) = (i32::MAX, i32::MIN);
+    for (point, out) in coords.iter().zip(&mut parts) {
+        for (c, part) in point.iter().zip(out.iter_mut()) {
+            if let Some((m, e)) = split(*c) {
+                *part = (m, e);
+                e_min = e_min.min(e);
+                e_max = e_max.max(e);
+            }
         }
     }
     if e_min == i32::MAX {
@@ -106,13 +82,37 @@ pub(crate) fn orient_det_sign(p: [f64; 3], q: [f64; 3], r: [f64; 3], x: [f64; 3]
     if e_max - e_min > MAX_SPREAD {
         return None;
     }
-    let int = |v: f64| split(v).map_or(0i128, |(m, e)| (m as i128) << (e - e_min));
-    let d = |a: [f64; 3]| [0, 1, 2].map(|i| int(a[i]) - int(p[i]));
-    let (a, b, c) = (d(q), d(r), d(x));
-    let w = |v: i128| I256::from_i128(v);
-    let minor = |i: usize, j: usize| w(b[i]).mul(w(c[j])).sub(w(b[j]).mul(w(c[i])));
-    let det = w(a[0]).mul(minor(1, 2)).sub(w(a[1]).mul(minor(0, 2))).add(w(a[2]).mul(minor(0, 1)));
-    Some(det.sign())
+    // Scaled by 2^-e_min every coordinate is an integer below 2^76, every
+    // difference below 2^77.
+    let int = |(m, e): (i64, i32)| if m == 0 { 0 } else { (m as i128) << (e - e_min) };
+    let origin = parts[0].map(int);
+    let diff = |k: usize| [0, 1, 2].map(|i| int(parts[k][i]) - origin[i]);
+    let (a, b, c) = (diff(1), diff(2), diff(3));
+    // det = Σ a_i · m_i over the minors of b and c.
+    let minors = [minor(b[1], c[2], b[2], c[1]), minor(b[2], c[0], b[0], c[2]), minor(b[0], c[1], b[1], c[0])];
+    // With a_i = h·2^39 + l and m_i = A·2^78 + B the determinant is
+    // t3·2^117 + t2·2^78 + t1·2^39 + t0 (each t a sum of three products
+    // below 2^118).
+    let (mut t3, mut t2, mut t1, mut t0) = (0i128, 0i128, 0i128, 0i128);
+    for (ai, (big, small)) in a.iter().zip(minors) {
+        let (h, l) = limbs(*ai);
+        t3 += h * big;
+        t2 += l * big;
+        t1 += h * small;
+        t0 += l * small;
+    }
+    // Carry upward so that t0, t1, t2 end in [0, 2^39): the sign is then
+    // t3's, or positive when t3 = 0 and anything below is not.
+    let carry = t0 >> LIMB;
+    t0 -= carry << LIMB;
+    t1 += carry;
+    let carry = t1 >> LIMB;
+    t1 -= carry << LIMB;
+    t2 += carry;
+    let carry = t2 >> LIMB;
+    t2 -= carry << LIMB;
+    t3 += carry;
+    Some(if t3 != 0 { t3.signum() as i8 } else { i8::from((t0 | t1 | t2) != 0) })
 }
 
 #[cfg(test)]
@@ -145,18 +145,6 @@ mod tests {
     }
 
     #[test]
-    fn wide_arithmetic_wraps_like_integers() {
-        let a = I256::from_i128(-(1i128 << 120));
-        let b = I256::from_i128(3 << 100);
-        // −2^120 · 3·2^100 = −3·2^220: the top limb carries it.
-        let p = a.mul(b);
-        assert_eq!(p.sign(), -1);
-        assert_eq!(p.neg().0, [0, 0, 0, 3 << 28]);
-        assert_eq!(a.sub(a).sign(), 0);
-        assert_eq!(I256::from_i128(-1).add(I256::from_i128(1)).0, [0; 4]);
-    }
-
-    #[test]
     fn agrees_with_big_integers_on_near_coplanar_points() {
         let mut rng = TestRng::deterministic_rng(RngAlgorithm::ChaCha);
         let (mut decided, mut zeros) = (0, 0);
@@ -178,6 +166,36 @@ mod tests {
             zeros += usize::from(got == 0);
         }
         assert!(decided > 15000 && zeros > 1000, "decided {decided}, zeros {zeros}");
+    }
+
+    #[test]
+    fn agrees_with_big_integers_at_the_edge_of_its_bit_budget() {
+        // Full 53-bit mantissas, both signs, exponents exactly MAX_SPREAD
+        // apart: the largest differences, minors and determinants the limbs
+        // must hold, and their carries.
+        let mut rng = TestRng::deterministic_rng(RngAlgorithm::ChaCha);
+        let mut nonzero = 0;
+        for k in 0..20000 {
+            let base = [-60, 0, 300][k % 3];
+            let mut coord = || {
+                let m = ((1u64 << 52) | (rng.next_u64() >> 12)) as f64;
+                let e = base + if rng.next_u64() % 2 == 0 { 0 } else { MAX_SPREAD };
+                let v = m * 2f64.powi(e - 52);
+                if rng.next_u64() % 2 == 0 { v } else { -v }
+            };
+            let mut pt = || [coord(), coord(), coord()];
+            let (p, q, r, mut x) = (pt(), pt(), pt(), pt());
+            // Near and exactly coplanar too: a corner one ulp off q, or q.
+            match k % 4 {
+                1 => x = [f64::from_bits(q[0].to_bits() + 1), q[1], q[2]],
+                2 => x = q,
+                _ => {}
+            }
+            let got = orient_det_sign(p, q, r, x).expect("within the spread");
+            assert_eq!(got, reference(p, q, r, x), "case {k}: {p:?} {q:?} {r:?} {x:?}");
+            nonzero += usize::from(got != 0);
+        }
+        assert!(nonzero > 14000 && nonzero < 16000, "nonzero {nonzero}");
     }
 
     #[test]
