@@ -53,8 +53,6 @@ const FLOOR: f64 = 1e-280;
 /// Hull of a frustum with a point (≤ 24) + closing plane + box (6) + light
 /// frustum (≤ 12).
 const MAX_FAST_PLANES: usize = 48;
-/// A face has at most one edge per other plane.
-const FACE_CAP: usize = MAX_FAST_PLANES;
 const CAP_V: usize = MAX_VERTICES;
 const NONE: u8 = u8::MAX;
 /// Input points: frustum corners 0–7, light 8, light frustum corners 9–16.
@@ -221,6 +219,13 @@ fn bits(mask: u64) -> impl Iterator<Item = usize> {
     std::iter::successors(Some(mask), |m| Some(m & m.wrapping_sub(1))).take_while(|&m| m != 0).map(|m| m.trailing_zeros() as usize)
 }
 
+/// Whether a plane mask has two or more bits set (two common planes: an
+/// edge).
+#[inline]
+fn two_or_more(mask: u64) -> bool {
+    mask & mask.wrapping_sub(1) != 0
+}
+
 /// A sign proven by `(value, bound)`; `bound == 0` means the value is exact.
 #[inline]
 fn decide(s: f64, e: f64) -> Option<i8> {
@@ -234,23 +239,6 @@ fn decide(s: f64, e: f64) -> Option<i8> {
         Some(0)
     } else {
         None
-    }
-}
-
-#[derive(Clone, Copy)]
-struct Cycle {
-    plane: u8,
-    len: u8,
-    v: [u8; FACE_CAP],
-}
-
-impl Cycle {
-    fn push(&mut self, v: u8) {
-        // Capacity: a face has fewer edges than there are planes.
-        if (self.len as usize) < FACE_CAP {
-            self.v[self.len as usize] = v;
-            self.len += 1;
-        }
     }
 }
 
@@ -291,8 +279,6 @@ pub(crate) struct CertifiedClipper {
     /// Input points each vertex is exactly equal to.
     is_point: [u32; CAP_V],
     n_verts: usize,
-    faces: [Cycle; MAX_FAST_PLANES],
-    n_faces: usize,
     magnitude: f64,
     sign: [i8; CAP_V],
     folds: [Option<Fold>; 4],
@@ -327,8 +313,6 @@ impl CertifiedClipper {
             on: [0; CAP_V],
             is_point: [0; CAP_V],
             n_verts: 0,
-            faces: [Cycle { plane: 0, len: 0, v: [0; FACE_CAP] }; MAX_FAST_PLANES],
-            n_faces: 0,
             magnitude: 0.0,
             sign: [0; CAP_V],
             folds: [None; 4],
@@ -351,7 +335,6 @@ impl CertifiedClipper {
         light_frustum: Option<&[DVec3; 8]>,
     ) -> Step {
         self.n_planes = 0;
-        self.n_faces = 0;
         self.n_verts = 0;
         self.cuts = 0;
         self.folds = [None; 4];
@@ -393,64 +376,40 @@ impl CertifiedClipper {
                 None => return Step::Uncertain,
             },
         };
+        // Each plane's vertices: its face's corners, or a horizon edge's
+        // two corners with the light (or their shadows on the closing plane).
         for (p, origin) in hull.origins().iter().enumerate() {
-            let mut cycle = Cycle { plane: p as u8, len: 0, v: [0; FACE_CAP] };
+            let mut face = [NONE; 4];
             match *origin {
                 Origin::Face(f) => {
-                    for &c in view.face(f as usize) {
-                        cycle.push(self.input_vertex(&mut vid, c as usize));
+                    for (slot, &c) in face.iter_mut().zip(view.face(f as usize)) {
+                        *slot = self.input_vertex(&mut vid, c as usize);
                     }
                 }
                 Origin::Horizon(a, b) => {
-                    let (va, vb) = (self.input_vertex(&mut vid, a as usize), self.input_vertex(&mut vid, b as usize));
-                    cycle.push(va);
-                    cycle.push(vb);
+                    face[0] = self.input_vertex(&mut vid, a as usize);
+                    face[1] = self.input_vertex(&mut vid, b as usize);
                     match closing {
-                        None => cycle.push(self.input_vertex(&mut vid, 8)),
+                        None => face[2] = self.input_vertex(&mut vid, 8),
                         Some(cap) => {
-                            for c in [b, a] {
+                            for (slot, c) in [(2, b), (3, a)] {
                                 if shadow[c as usize] == NONE {
                                     let Some(v) = self.shadow_vertex(hull, c, cap) else { return Step::Uncertain };
                                     shadow[c as usize] = v;
                                 }
-                                cycle.push(shadow[c as usize]);
+                                face[slot] = shadow[c as usize];
                             }
                         }
                     }
                 }
             }
-            for &v in &cycle.v[..cycle.len as usize] {
+            for &v in face.iter().filter(|&&v| v != NONE) {
                 self.on[v as usize] |= 1 << p;
             }
-            self.faces[self.n_faces] = cycle;
-            self.n_faces += 1;
         }
-        if let Some(cap) = closing {
-            // Each side face a, b, b′, a′ has the cap edge b′ → a′; the cap
-            // runs along it the other way.
-            let mut next = [NONE; CAP_V];
-            let mut count = 0;
-            for origin in hull.origins() {
-                if let Origin::Horizon(a, b) = *origin {
-                    next[shadow[a as usize] as usize] = shadow[b as usize];
-                    count += 1;
-                }
-            }
-            let mut cycle = Cycle { plane: cap as u8, len: 0, v: [0; FACE_CAP] };
-            let start = shadow.iter().copied().find(|&v| v != NONE).unwrap_or(NONE);
-            let mut v = start;
-            while v != NONE && (cycle.len as usize) < count {
-                cycle.push(v);
-                v = next[v as usize];
-                if v == start {
-                    break;
-                }
-            }
-            if v != start || cycle.len as usize != count || count < 3 {
-                return Step::Uncertain;
-            }
-            self.faces[self.n_faces] = cycle;
-            self.n_faces += 1;
+        // The closing plane's face is the horizon's shadow: at least a triangle.
+        if closing.is_some() && shadow.iter().filter(|&&v| v != NONE).count() < 3 {
+            return Step::Uncertain;
         }
         Step::Solid
     }
@@ -574,9 +533,9 @@ impl CertifiedClipper {
         self.planes[k] = plane;
         self.magnitude = self.magnitude.max(plane.src.magnitude());
         let mut partners = 0;
-        if plane.through.count_ones() >= 2 {
+        if two_or_more(plane.through as u64) {
             for (i, p) in self.planes[..k].iter().enumerate() {
-                if (p.through & plane.through).count_ones() >= 2 && matches!(p.src, Plane::Points(_)) {
+                if two_or_more((p.through & plane.through) as u64) && matches!(p.src, Plane::Points(_)) {
                     partners |= 1 << i;
                 }
             }
@@ -606,9 +565,16 @@ impl CertifiedClipper {
         let bit = 1u64 << k;
         if pos == 0 {
             // Not cut; remember which vertices the plane touches.
-            for v in 0..self.n_verts {
-                if self.sign[v] == 0 {
-                    self.on[v] |= bit;
+            // NOTE: a supporting plane through three vertices (never collinear:
+            // all are extreme points) is the plane of a face already there.
+            // Its incidences are left out so that two vertices share two
+            // planes exactly when they span an edge (see `cut`).
+            let touching = self.sign[..self.n_verts].iter().filter(|&&s| s == 0).count();
+            if touching < 3 {
+                for v in 0..self.n_verts {
+                    if self.sign[v] == 0 {
+                        self.on[v] |= bit;
+                    }
                 }
             }
             self.n_planes += 1;
@@ -886,116 +852,56 @@ impl CertifiedClipper {
     }
 
     /// Cuts by plane `k` (vertices on both sides, signs in `self.sign`).
+    ///
+    /// NOTE: the body keeps no face cycles while clipping. Two vertices span
+    /// an edge exactly when they lie on two common planes: two distinct
+    /// supporting planes meet the body in a face of dimension ≤ 1, and two
+    /// vertices in it are its endpoints (planes that merely repeat a face
+    /// are not recorded, see `clip`). So the cut edges are the pairs of an
+    /// inside and an outside vertex sharing two planes, and faces are
+    /// assembled once, in `write`.
     fn cut(&mut self, k: usize) -> bool {
         let old_n = self.n_verts;
-        let mut n_new = old_n;
-        // Edges crossed so far: (low end, high end, new vertex).
-        let mut crossed = [(0u8, 0u8, 0u8); 2 * MAX_FAST_PLANES];
-        let mut n_crossed = 0;
-        let mut cap_next = [NONE; CAP_V];
-        let (mut cap_edges, mut cap_start) = (0, NONE);
-        let mut kept = 0;
-        for f in 0..self.n_faces {
-            let face = self.faces[f];
-            let len = face.len as usize;
-            let mut cyc = [0u8; FACE_CAP];
-            let mut n = 0;
-            let mut any_inside = false;
-            for j in 0..len {
-                let (u, w) = (face.v[j] as usize, face.v[if j + 1 == len { 0 } else { j + 1 }] as usize);
-                let (su, sw) = (self.sign[u], self.sign[w]);
-                if su <= 0 {
-                    cyc[n] = u as u8;
-                    n += 1;
-                    any_inside |= su < 0;
-                }
-                if su * sw < 0 {
-                    let key = (u.min(w) as u8, u.max(w) as u8);
-                    let x = match crossed[..n_crossed].iter().find(|c| (c.0, c.1) == key) {
-                        Some(c) => c.2,
-                        None => {
-                            if n_new >= CAP_V || n_crossed >= crossed.len() {
-                                return false;
-                            }
-                            let (inside, outside) = if su < 0 { (u, w) } else { (w, u) };
-                            if !self.crossing(inside, outside, k, n_new) {
-                                return false;
-                            }
-                            crossed[n_crossed] = (key.0, key.1, n_new as u8);
-                            n_crossed += 1;
-                            n_new += 1;
-                            (n_new - 1) as u8
-                        }
-                    };
-                    if n >= FACE_CAP {
-                        return false;
-                    }
-                    cyc[n] = x;
-                    n += 1;
-                }
-            }
-            if !any_inside {
-                continue;
-            }
-            // The face's edge on plane k joins its two vertices on k; the
-            // cap runs along it the other way.
-            let on_k = |v: u8| v as usize >= old_n || self.sign[v as usize] == 0;
-            let mut a = cyc[n - 1];
-            for &b in &cyc[..n] {
-                if on_k(a) && on_k(b) {
-                    if cap_next[b as usize] != NONE {
-                        return false;
-                    }
-                    cap_next[b as usize] = a;
-                    cap_edges += 1;
-                    cap_start = b;
-                }
-                a = b;
-            }
-            let c = &mut self.faces[kept];
-            c.plane = face.plane;
-            c.len = n as u8;
-            c.v[..n].copy_from_slice(&cyc[..n]);
-            kept += 1;
-        }
-        // The cap face, chained from the edges the faces gave it.
-        if cap_edges < 3 || kept >= MAX_FAST_PLANES || cap_edges > FACE_CAP {
-            return false;
-        }
-        let mut cap = Cycle { plane: k as u8, len: 0, v: [0; FACE_CAP] };
-        let mut v = cap_start;
-        loop {
-            if cap.len as usize >= cap_edges {
-                return false;
-            }
-            cap.v[cap.len as usize] = v;
-            cap.len += 1;
-            v = cap_next[v as usize];
-            if v == NONE {
-                return false;
-            }
-            if v == cap_start {
-                break;
-            }
-        }
-        if cap.len as usize != cap_edges {
-            return false;
-        }
-        self.faces[kept] = cap;
-        self.n_faces = kept + 1;
-        // On-plane vertices now lie on k too.
+        let (mut inside, mut n_in) = ([0u8; CAP_V], 0);
+        let (mut outside, mut n_out) = ([0u8; CAP_V], 0);
         let bit = 1u64 << k;
+        let mut on_k = 0;
         for v in 0..old_n {
-            if self.sign[v] == 0 {
-                self.on[v] |= bit;
+            match self.sign[v] {
+                s if s < 0 => {
+                    inside[n_in] = v as u8;
+                    n_in += 1;
+                }
+                s if s > 0 => {
+                    outside[n_out] = v as u8;
+                    n_out += 1;
+                }
+                _ => {
+                    self.on[v] |= bit;
+                    on_k += 1;
+                }
             }
         }
-        // Compact: drop the vertices outside.
-        let mut remap = [NONE; CAP_V];
+        let mut n_new = old_n;
+        for &u in &inside[..n_in] {
+            let on_u = self.on[u as usize];
+            for &w in &outside[..n_out] {
+                if two_or_more(on_u & self.on[w as usize]) {
+                    if n_new >= CAP_V || !self.crossing(u as usize, w as usize, k, n_new) {
+                        return false;
+                    }
+                    n_new += 1;
+                }
+            }
+        }
+        // The cap is a polygon: at least three vertices on k.
+        if on_k + n_new - old_n < 3 {
+            return false;
+        }
+        // Drop the vertices outside.
         let mut n = 0;
         for v in 0..n_new {
             if v >= old_n || self.sign[v] <= 0 {
-                remap[v] = n as u8;
                 self.pos[n] = self.pos[v];
                 self.rad[n] = self.rad[v];
                 self.on[n] = self.on[v];
@@ -1004,16 +910,27 @@ impl CertifiedClipper {
             }
         }
         self.n_verts = n;
-        for face in &mut self.faces[..self.n_faces] {
-            for x in &mut face.v[..face.len as usize] {
-                *x = remap[*x as usize];
-            }
-        }
         true
     }
 
+    /// The certified sign of `det[n_a, n_b, n_c]` for three planes' exact
+    /// normals.
+    fn normals_det_sign(a: &FloatPlane, b: &FloatPlane, c: &FloatPlane) -> Option<i8> {
+        // NOTE: the exact normals lie within `en` of the rounded ones, so the
+        // exact determinant differs from the rounded normals' by at most
+        // perm(|ñ| + en) − perm(|ñ|) (multilinearity); each permanent and the
+        // determinant itself carry under 6u of perm(|ñ| + en) in rounding.
+        let perm = |x: DVec3, y: DVec3, z: DVec3| x.dot(abs_cross(y, z));
+        let det = a.n.dot(b.n.cross(c.n));
+        let nominal = perm(a.n.abs(), b.n.abs(), c.n.abs());
+        let widened = perm(a.n.abs() + a.en, b.n.abs() + b.en, c.n.abs() + c.en);
+        let bound = ((widened - nominal) + 20.0 * U * widened) * SLACK;
+        decide(det, bound).filter(|&s| s != 0)
+    }
+
     /// Writes the solid into `out`; false (nothing written) when a vertex's
-    /// proven error exceeds the output tolerance.
+    /// proven error exceeds the output tolerance or a face's orientation is
+    /// not proven.
     pub(crate) fn write(&self, out: &mut Body) -> bool {
         let tol = ROUNDING_ULPS * f64::EPSILON;
         for v in 0..self.n_verts {
@@ -1023,28 +940,106 @@ impl CertifiedClipper {
                 return false;
             }
         }
-        let total: usize = self.faces[..self.n_faces].iter().map(|f| f.len as usize).sum();
-        if total > MAX_FACE_INDICES {
+        // Each plane's vertices, in one flat list grouped by plane; planes
+        // with three or more carry a face.
+        let mut count = [0u16; MAX_FAST_PLANES + 1];
+        for v in 0..self.n_verts {
+            for p in bits(self.on[v]) {
+                count[p + 1] += 1;
+            }
+        }
+        for p in 0..MAX_FAST_PLANES {
+            count[p + 1] += count[p];
+        }
+        let total = count[MAX_FAST_PLANES] as usize;
+        let mut members = [0u8; MAX_FACE_INDICES];
+        if total > members.len() {
             return false;
         }
+        let mut fill = count;
+        for v in 0..self.n_verts {
+            for p in bits(self.on[v]) {
+                members[fill[p] as usize] = v as u8;
+                fill[p] += 1;
+            }
+        }
         out.clear();
+        let (mut ni, mut nf) = (0, 0);
+        for p in 0..self.n_planes {
+            let list = &members[count[p] as usize..count[p + 1] as usize];
+            let m = list.len();
+            if m < 3 {
+                continue;
+            }
+            let Some(cycle) = self.face_cycle(p, list) else { return false };
+            if ni + m > MAX_FACE_INDICES {
+                return false;
+            }
+            out.face_start[nf] = ni as u16;
+            for &v in &cycle[..m] {
+                out.idx[ni] = v as u16;
+                ni += 1;
+            }
+            out.face_planes[nf] = self.planes[p].approximate();
+            nf += 1;
+        }
+        // Euler's formula for a closed convex surface: every edge is in two
+        // faces, V − E + F = 2.
+        if ni % 2 != 0 || self.n_verts + nf != ni / 2 + 2 {
+            out.clear();
+            return false;
+        }
         out.dim = 3;
         for v in 0..self.n_verts {
             // Adding +0 turns −0 into +0.
             out.verts[v] = self.pos[v] + DVec3::ZERO;
         }
         out.n_verts = self.n_verts;
-        let mut ni = 0;
-        for (f, face) in self.faces[..self.n_faces].iter().enumerate() {
-            out.face_start[f] = ni as u16;
-            for &x in &face.v[..face.len as usize] {
-                out.idx[ni] = x as u16;
-                ni += 1;
-            }
-            out.face_planes[f] = self.planes[face.plane as usize].approximate();
-        }
-        out.face_start[self.n_faces] = ni as u16;
-        out.n_faces = self.n_faces;
+        out.face_start[nf] = ni as u16;
+        out.n_faces = nf;
         true
+    }
+
+    /// The vertices of plane `p`'s face in counter-clockwise order seen from
+    /// outside, chained through the edges (pairs on two common planes).
+    fn face_cycle(&self, p: usize, members: &[u8]) -> Option<[u8; MAX_FAST_PLANES]> {
+        let m = members.len();
+        let mut cycle = [0u8; MAX_FAST_PLANES];
+        let (mut prev, mut cur) = (NONE, members[0]);
+        let mut seen = 1u128 << cur;
+        cycle[0] = cur;
+        for slot in cycle.iter_mut().take(m).skip(1) {
+            let on_cur = self.on[cur as usize];
+            let next = members.iter().copied().find(|&w| w != cur && w != prev && two_or_more(on_cur & self.on[w as usize]))?;
+            if seen & 1 << next != 0 {
+                return None;
+            }
+            seen |= 1 << next;
+            *slot = next;
+            (prev, cur) = (cur, next);
+        }
+        if !two_or_more(self.on[cycle[m - 1] as usize] & self.on[cycle[0] as usize]) {
+            return None;
+        }
+        // NOTE: at a vertex v with neighbours a (next) and b (previous), the
+        // edge v → a runs along planes p and i, into the inner side of j (the
+        // plane of edge v → b), and likewise with i and j swapped. Writing
+        // both directions as ±(n_p × n_i), ±(n_p × n_j) with those signs,
+        // (t_a × t_b) · n_p = −det[n_p, n_i, n_j]·|n_p|²: the cycle runs
+        // counter-clockwise from outside exactly when the determinant is
+        // negative. It is near zero where i nearly repeats p (the two
+        // triangles of a creased frustum side), so the first vertex whose
+        // determinant's sign is proven decides.
+        let others = !(1u64 << p);
+        let decided = (0..m).find_map(|s| {
+            let (v, a, b) = (cycle[s] as usize, cycle[(s + 1) % m] as usize, cycle[(s + m - 1) % m] as usize);
+            let i = (self.on[v] & self.on[a] & others).trailing_zeros() as usize;
+            let j = (self.on[v] & self.on[b] & others).trailing_zeros() as usize;
+            (i < self.n_planes && j < self.n_planes).then(|| Self::normals_det_sign(&self.planes[p], &self.planes[i], &self.planes[j])).flatten()
+        })?;
+        if decided > 0 {
+            cycle[1..m].reverse();
+        }
+        Some(cycle)
     }
 }
