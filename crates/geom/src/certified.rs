@@ -1000,6 +1000,39 @@ impl CertifiedClipper {
         true
     }
 
+    /// Whether the convex polygon `cycle` of plane `p` runs counter-clockwise
+    /// seen from outside, from its area vector `A` (a fan from its first
+    /// vertex): `A` must point away from the body's vertices off the plane.
+    /// `None` when the bounds cannot prove it.
+    fn area_orientation(&self, p: usize, cycle: &[u8]) -> Option<bool> {
+        // NOTE: fan terms of a convex polygon all point one way, so `A` has no
+        // cancellation. A difference d = x_k − x_0 is off by the two radii and
+        // its rounding; a cross product of perturbed vectors by
+        // |δa|×|b| + |a|×|δb| + |δa|×|δb| and 3u of |a|×|b|. The plane's own
+        // normal is not used: it may be known less well than the polygon.
+        let (x0, r0) = (self.pos[cycle[0] as usize], self.rad[cycle[0] as usize]);
+        let edge = |v: usize| {
+            let d = self.pos[v] - x0;
+            (d, self.rad[v] + r0 + d.abs() * U)
+        };
+        let (mut area, mut err) = (DVec3::ZERO, DVec3::ZERO);
+        let (mut a, mut ea) = edge(cycle[1] as usize);
+        for &v in &cycle[2..] {
+            let (b, eb) = edge(v as usize);
+            area += a.cross(b);
+            err += abs_cross(ea, b) + abs_cross(a, eb) + abs_cross(ea, eb) + abs_cross(a, b) * (3.0 * U);
+            (a, ea) = (b, eb);
+        }
+        // Against the vertices off the plane, until one proves the side (a
+        // vertex may lie very close to the plane without being on it).
+        (0..self.n_verts).filter(|&v| self.on[v] & 1 << p == 0).find_map(|y| {
+            let (d, ed) = edge(y);
+            let value = area.dot(d);
+            let bound = (err.dot(d.abs() + ed) + area.abs().dot(ed) + 3.0 * U * area.abs().dot(d.abs())) * SLACK + FLOOR;
+            decide(value, bound).filter(|&s| s != 0).map(|s| s < 0)
+        })
+    }
+
     /// The vertices of plane `p`'s face in counter-clockwise order seen from
     /// outside, chained through the edges (pairs on two common planes).
     fn face_cycle(&self, p: usize, members: &[u8]) -> Option<[u8; MAX_FAST_PLANES]> {
@@ -1030,13 +1063,17 @@ impl CertifiedClipper {
         // negative. It is near zero where i nearly repeats p (the two
         // triangles of a creased frustum side), so the first vertex whose
         // determinant's sign is proven decides.
+        // Where every such determinant is too close to zero (nearly dependent
+        // planes, or a plane whose normal is barely known: three nearly
+        // collinear defining points) the polygon's area vector decides.
         let others = !(1u64 << p);
-        let decided = (0..m).find_map(|s| {
-            let (v, a, b) = (cycle[s] as usize, cycle[(s + 1) % m] as usize, cycle[(s + m - 1) % m] as usize);
-            let i = (self.on[v] & self.on[a] & others).trailing_zeros() as usize;
-            let j = (self.on[v] & self.on[b] & others).trailing_zeros() as usize;
-            (i < self.n_planes && j < self.n_planes).then(|| Self::normals_det_sign(&self.planes[p], &self.planes[i], &self.planes[j])).flatten()
-        })?;
+        let decided = (0..m)
+            .find_map(|s| {
+                let (v, a, b) = (cycle[s] as usize, cycle[(s + 1) % m] as usize, cycle[(s + m - 1) % m] as usize);
+                let (to_a, to_b) = (self.on[v] & self.on[a] & others, self.on[v] & self.on[b] & others);
+                bits(to_a).find_map(|i| bits(to_b).find_map(|j| Self::normals_det_sign(&self.planes[p], &self.planes[i], &self.planes[j])))
+            })
+            .or_else(|| self.area_orientation(p, &cycle[..m]).map(|ccw| if ccw { -1 } else { 1 }))?;
         if decided > 0 {
             cycle[1..m].reverse();
         }
