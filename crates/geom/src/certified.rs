@@ -213,10 +213,24 @@ fn line_crossing(a: DVec3, d: DVec3, d_rounded: bool, p: &FloatPlane) -> Option<
 }
 
 /// Indices of the set bits of a plane or input-point mask, lowest first.
-fn bits(mask: u64) -> impl Iterator<Item = usize> {
-    // NOTE: `successors` computes the next mask as it yields the last one (0),
-    // hence the wrapping subtraction.
-    std::iter::successors(Some(mask), |m| Some(m & m.wrapping_sub(1))).take_while(|&m| m != 0).map(|m| m.trailing_zeros() as usize)
+fn bits(mask: u64) -> Bits {
+    Bits(mask)
+}
+
+struct Bits(u64);
+
+impl Iterator for Bits {
+    type Item = usize;
+
+    #[inline]
+    fn next(&mut self) -> Option<usize> {
+        if self.0 == 0 {
+            return None;
+        }
+        let i = self.0.trailing_zeros() as usize;
+        self.0 &= self.0 - 1;
+        Some(i)
+    }
 }
 
 /// Whether a plane mask has two or more bits set (two common planes: an
@@ -1038,17 +1052,18 @@ impl CertifiedClipper {
     fn face_cycle(&self, p: usize, members: &[u8]) -> Option<[u8; MAX_FAST_PLANES]> {
         let m = members.len();
         let mut cycle = [0u8; MAX_FAST_PLANES];
-        let (mut prev, mut cur) = (NONE, members[0]);
-        let mut seen = 1u128 << cur;
-        cycle[0] = cur;
+        // Positions in `members` already placed.
+        let (mut prev, mut cur) = (usize::MAX, 0);
+        let mut placed = 1u64;
+        cycle[0] = members[0];
         for slot in cycle.iter_mut().take(m).skip(1) {
-            let on_cur = self.on[cur as usize];
-            let next = members.iter().copied().find(|&w| w != cur && w != prev && two_or_more(on_cur & self.on[w as usize]))?;
-            if seen & 1 << next != 0 {
+            let on_cur = self.on[members[cur] as usize];
+            let next = (0..m).find(|&w| w != cur && w != prev && two_or_more(on_cur & self.on[members[w] as usize]))?;
+            if placed & 1 << next != 0 {
                 return None;
             }
-            seen |= 1 << next;
-            *slot = next;
+            placed |= 1 << next;
+            *slot = members[next];
             (prev, cur) = (cur, next);
         }
         if !two_or_more(self.on[cycle[m - 1] as usize] & self.on[cycle[0] as usize]) {

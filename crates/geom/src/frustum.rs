@@ -40,6 +40,8 @@ pub struct Frustum {
     coplanar_faces: bool,
     /// Every corner is in the safe range of the static filters.
     in_range: bool,
+    /// The face holding each directed edge `a → b` (`u8::MAX`: none).
+    edge_face: [[u8; 8]; 8],
 }
 
 /// A light as a homogeneous point: finite, or at infinity in a direction.
@@ -293,7 +295,7 @@ impl Frustum {
         if hand == 0 {
             return Err(GeomError::DegenerateFrustum { what, reason: "all corners are coplanar" });
         }
-        let mut f = Frustum { corners, faces: [[0; 4]; MAX_FRUSTUM_FACES], faces_len: [0; MAX_FRUSTUM_FACES], n_faces: 0, coplanar_faces: false, in_range };
+        let mut f = Frustum { corners, faces: [[0; 4]; MAX_FRUSTUM_FACES], faces_len: [0; MAX_FRUSTUM_FACES], n_faces: 0, coplanar_faces: false, in_range, edge_face: [[u8::MAX; 8]; 8] };
         // Per face: the corners of the quad it comes from.
         let mut quad_corners = [0u8; MAX_FRUSTUM_FACES];
         for quad in QUADS {
@@ -345,6 +347,9 @@ impl Frustum {
 
     fn push_face(&mut self, idx: &[u8]) {
         let i = self.n_faces as usize;
+        for (k, &a) in idx.iter().enumerate() {
+            self.edge_face[a as usize][idx[(k + 1) % idx.len()] as usize] = i as u8;
+        }
         self.faces[i][..idx.len()].copy_from_slice(idx);
         self.faces_len[i] = idx.len() as u8;
         self.n_faces += 1;
@@ -457,10 +462,8 @@ impl Frustum {
     }
 
     fn face_with_edge(&self, a: u8, b: u8) -> Option<usize> {
-        (0..self.face_count()).find(|&i| {
-            let f = self.face(i);
-            (0..f.len()).any(|k| f[k] == a && f[(k + 1) % f.len()] == b)
-        })
+        let f = self.edge_face[a as usize][b as usize];
+        (f != u8::MAX).then_some(f as usize)
     }
 
     /// Whether `x` lies in the closed frustum (exact).
