@@ -249,20 +249,20 @@ pub(crate) fn crop(m: &DMat4, pts: &[DVec3], origin: DVec3) -> Option<Cropped> {
 
     let (x, y, z, w) = (m.row(0), m.row(1), m.row(2), m.row(3));
     let centred = [x - w * centre.x, y - w * centre.y, z - w * centre.z, w];
-    let t = DMat4::from_translation(origin);
-    let rel: [DVec4; 4] = std::array::from_fn(|r| (from_rows(centred[0], centred[1], centred[2], centred[3]) * t).row(r));
+    let rel = from_rows(centred[0], centred[1], centred[2], centred[3]) * DMat4::from_translation(origin);
+    // Row magnitudes, scaled by the error constants, for the bounds below.
+    let abs64 = centred.map(|r| r.abs() * (K * U64));
+    let abs32: [DVec4; 4] = std::array::from_fn(|r| rel.row(r).abs() * (K * U32));
     let mut f32_exact = true;
     for p in pts {
         let (pw, pr) = (h(*p), h(*p - origin));
-        let e = |r: usize, with_f32: bool| {
-            let e64 = K * U64 * centred[r].abs().dot(pw.abs());
-            let e32 = if with_f32 { K * U32 * rel[r].abs().dot(pr.abs()) } else { 0.0 };
-            e64 + e32
-        };
+        let (pwa, pra) = (pw.abs(), pr.abs());
+        let e = |r: usize, with_f32: bool| abs64[r].dot(pwa) + if with_f32 { abs32[r].dot(pra) } else { 0.0 };
         let wv = w.dot(pw);
-        let use32 = e(3, true) < 0.5 * wv;
+        let ew32 = e(3, true);
+        let use32 = ew32 < 0.5 * wv;
         f32_exact &= use32;
-        let ew = e(3, use32);
+        let ew = if use32 { ew32 } else { e(3, false) };
         let q = DVec3::new(centred[0].dot(pw), centred[1].dot(pw), centred[2].dot(pw));
         for k in 0..3 {
             let need = (q[k].abs() + e(k, use32)) / (wv - ew);
