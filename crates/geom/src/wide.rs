@@ -64,16 +64,15 @@ fn split(x: f64) -> Option<(i64, i32)> {
 /// determinant), or `None` when the coordinates span too many binades.
 /// Inputs must be finite.
 pub(crate) fn orient_det_sign(p: [f64; 3], q: [f64; 3], r: [f64; 3], x: [f64; 3]) -> Option<i8> {
-    let coords = [p, q, r, x];
-    let mut parts = [[(0i64, 0i32); 3]; 4];
+    let coords = [p[0], p[1], p[2], q[0], q[1], q[2], r[0], r[1], r[2], x[0], x[1], x[2]];
+    let mut mantissa = [0i64; 12];
+    let mut exponent = [0i32; 12];
     let (mut e_min, mut e_max) = (i32::MAX, i32::MIN);
-    for (point, out) in coords.iter().zip(&mut parts) {
-        for (c, part) in point.iter().zip(out.iter_mut()) {
-            if let Some((m, e)) = split(*c) {
-                *part = (m, e);
-                e_min = e_min.min(e);
-                e_max = e_max.max(e);
-            }
+    for (c, (m, e)) in coords.iter().zip(mantissa.iter_mut().zip(exponent.iter_mut())) {
+        if let Some((mc, ec)) = split(*c) {
+            (*m, *e) = (mc, ec);
+            e_min = e_min.min(ec);
+            e_max = e_max.max(ec);
         }
     }
     if e_min == i32::MAX {
@@ -84,9 +83,13 @@ pub(crate) fn orient_det_sign(p: [f64; 3], q: [f64; 3], r: [f64; 3], x: [f64; 3]
     }
     // Scaled by 2^-e_min every coordinate is an integer below 2^76, every
     // difference below 2^77.
-    let int = |(m, e): (i64, i32)| if m == 0 { 0 } else { (m as i128) << (e - e_min) };
-    let origin = parts[0].map(int);
-    let diff = |k: usize| [0, 1, 2].map(|i| int(parts[k][i]) - origin[i]);
+    let mut int = [0i128; 12];
+    for i in 0..12 {
+        if mantissa[i] != 0 {
+            int[i] = (mantissa[i] as i128) << (exponent[i] - e_min);
+        }
+    }
+    let diff = |k: usize| [int[3 * k] - int[0], int[3 * k + 1] - int[1], int[3 * k + 2] - int[2]];
     let (a, b, c) = (diff(1), diff(2), diff(3));
     // det = Σ a_i · m_i over the minors of b and c.
     let minors = [minor(b[1], c[2], b[2], c[1]), minor(b[2], c[0], b[0], c[2]), minor(b[0], c[1], b[1], c[0])];
