@@ -189,7 +189,7 @@ fn line_crossing(a: DVec3, d: DVec3, d_rounded: bool, p: &FloatPlane) -> Option<
         let td = d * t;
         let mut x = a + td;
         x[axis] = p.value;
-        let mut rad = (td.abs() * (6.0 * U) + x.abs() * (2.0 * U)) * SLACK + DVec3::splat(1e-300);
+        let mut rad = exact_where_still((td.abs() * (6.0 * U) + x.abs() * (2.0 * U)) * SLACK + DVec3::splat(1e-300), d);
         rad[axis] = 0.0;
         return (x.is_finite() && rad.is_finite()).then_some((x, rad));
     }
@@ -208,8 +208,16 @@ fn line_crossing(a: DVec3, d: DVec3, d_rounded: bool, p: &FloatPlane) -> Option<
     let et = (eq + t.abs() * ed) / (delta.abs() - ed) + 2.0 * U * t.abs();
     let td = d * t;
     let x = a + td;
-    let rad = (da * et * (1.0 + 4.0 * U) + td.abs() * (4.0 * U) + x.abs() * (2.0 * U)) * SLACK + DVec3::splat(1e-300);
+    let rad = exact_where_still((da * et * (1.0 + 4.0 * U) + td.abs() * (4.0 * U) + x.abs() * (2.0 * U)) * SLACK + DVec3::splat(1e-300), d);
     (x.is_finite() && rad.is_finite()).then_some((x, rad))
+}
+
+/// Zero radius on the axes the line does not move along.
+///
+/// NOTE: a zero component of `d` is exact (a rounded difference is zero only
+/// when the two coordinates are equal), so there `x = a + t·0 = a` exactly.
+fn exact_where_still(rad: DVec3, d: DVec3) -> DVec3 {
+    DVec3::select(d.cmpeq(DVec3::ZERO), DVec3::ZERO, rad)
 }
 
 /// Indices of the set bits of a plane or input-point mask, lowest first.
@@ -819,6 +827,10 @@ impl CertifiedClipper {
         let step = q / p.n[j];
         x[j] = p.anchor[j] - step;
         let mut rad = DVec3::ZERO;
+        if q == 0.0 && eq == 0.0 {
+            // q is exactly zero: the point is the anchor's coordinate, exact.
+            return Some((x, rad));
+        }
         rad[j] = ((eq + step.abs() * enj) / (nj - enj) + 2.0 * U * step.abs() + U * x[j].abs()) * SLACK + 1e-300;
         Some((x, rad))
     }

@@ -246,3 +246,30 @@ fn coplanar_frustum_faces_do_not_add_a_vertex() {
     assert_eq!(reference.vertices().len(), 8, "{reference:?}");
     assert!(!body.vertices().contains(&c[3]), "corner 3 lies inside a face, it is no vertex: {body:?}");
 }
+
+/// A scene face lying exactly in the frustum's far plane touches four
+/// vertices without cutting. The float path must not record that plane as a
+/// second plane through those vertices: it finds edges as vertex pairs on two
+/// common planes, and a repeated face plane would pair every two vertices of
+/// the face. The body is the exact engine's, with the float path answering.
+#[test]
+fn a_scene_face_in_a_frustum_face_plane_adds_no_edges() {
+    let view = simple_view();
+    let light = Light::directional(DVec3::new(0.0, 0.0, -1.0)).unwrap();
+    for max in [3.0, -0.5] {
+        let scene = Aabb::new(DVec3::new(-5.0, -5.0, -8.0), DVec3::new(5.0, 5.0, max)).unwrap();
+        let body = focus_body(&view, &light, &scene).unwrap();
+        let mut reference = Body::new();
+        shadowfocus_geom::focus_body_exact_into(&mut reference, &view, &light, &scene).unwrap();
+        assert!(body.stats().float_path, "the float path declined: {body:?}");
+        assert_eq!(body.dimension(), Dimension::Solid);
+        assert_eq!(body.vertices().len(), reference.vertices().len(), "{body:?}\n{reference:?}");
+        let sizes = |b: &Body| {
+            let mut s: Vec<usize> = b.faces().map(|f| f.len()).collect();
+            s.sort();
+            s
+        };
+        assert_eq!(sizes(&body), sizes(&reference), "{body:?}\n{reference:?}");
+        assert!((body.volume() - reference.volume()).abs() <= 1e-12 * reference.volume());
+    }
+}
