@@ -54,7 +54,11 @@ const FLOOR: f64 = 1e-280;
 /// frustum (≤ 12).
 const MAX_FAST_PLANES: usize = 48;
 const CAP_V: usize = MAX_VERTICES;
+// Vertex sets are `u128` bit sets.
+const _: () = assert!(CAP_V <= 128);
 const NONE: u8 = u8::MAX;
+/// Plane pairs whose fold proxy is remembered per body.
+const FOLD_CACHE: usize = 8;
 /// Input points: frustum corners 0–7, light 8, light frustum corners 9–16.
 const N_POINTS: usize = 17;
 const LIGHT_FRUSTUM_SHIFT: u32 = 9;
@@ -278,8 +282,6 @@ pub(crate) enum Step {
 /// pass through two common input points (see the module notes).
 #[derive(Clone, Copy)]
 struct Fold {
-    i: u8,
-    k: u8,
     /// A plane through the common line, transverse to plane `i`.
     proxy: FloatPlane,
     /// `sign(k) = sign × sign(proxy)` on plane `i`.
@@ -303,7 +305,8 @@ pub(crate) struct CertifiedClipper {
     n_verts: usize,
     magnitude: f64,
     sign: [i8; CAP_V],
-    folds: [Option<Fold>; 4],
+    /// Fold proxies by plane pair `(i, k)`, failures included (`None`).
+    folds: [(u8, u8, Option<Fold>); FOLD_CACHE],
     /// Planes that cut.
     pub cuts: u16,
 }
@@ -337,7 +340,7 @@ impl CertifiedClipper {
             n_verts: 0,
             magnitude: 0.0,
             sign: [0; CAP_V],
-            folds: [None; 4],
+            folds: [(NONE, NONE, None); FOLD_CACHE],
             cuts: 0,
         }
     }
@@ -359,7 +362,7 @@ impl CertifiedClipper {
         self.n_planes = 0;
         self.n_verts = 0;
         self.cuts = 0;
-        self.folds = [None; 4];
+        self.folds = [(NONE, NONE, None); FOLD_CACHE];
         // NOTE: beneath–beyond takes the frustum's faces as the hull's; when
         // faces are coplanar the hull's faces differ (merged, with corners
         // inside them), so such frusta go to the exact engine.
@@ -625,7 +628,8 @@ impl CertifiedClipper {
         // A point on several planes that share a line with k: any of them
         // may decide (the point can lie close to one line and far from another).
         for i in bits(self.on[v] & self.partners[k]) {
-            if let Some(fold) = self.fold(i, k) {
+            if let Some(slot) = self.fold(i, k) {
+                let Some(fold) = &self.folds[slot].2 else { continue };
                 let (s, e) = fold.proxy.side(x, r);
                 if let Some(s) = decide(s, e) {
                     return Some(s * fold.sign as i8);
@@ -646,14 +650,17 @@ impl CertifiedClipper {
 
     /// The fold proxy for points on plane `i` tested against plane `k`
     /// (planes sharing a line of input points), cached per body.
-    fn fold(&mut self, i: usize, k: usize) -> Option<Fold> {
-        if let Some(f) = self.folds.iter().flatten().find(|f| f.i as usize == i && f.k as usize == k) {
-            return Some(*f);
+    ///
+    /// Returns the cache slot holding it; `None` when the pair has no proxy.
+    fn fold(&mut self, i: usize, k: usize) -> Option<usize> {
+        let key = (i as u8, k as u8);
+        if let Some(slot) = self.folds.iter().position(|e| (e.0, e.1) == key) {
+            return self.folds[slot].2.is_some().then_some(slot);
         }
-        let f = self.make_fold(i, k, self.planes[i].through & self.planes[k].through)?;
-        let slot = self.folds.iter().position(Option::is_none).unwrap_or(k % self.folds.len());
-        self.folds[slot] = Some(f);
-        Some(f)
+        let f = self.make_fold(i, k, self.planes[i].through & self.planes[k].through);
+        let slot = self.folds.iter().position(|e| e.0 == NONE).unwrap_or(k % FOLD_CACHE);
+        self.folds[slot] = (key.0, key.1, f);
+        f.is_some().then_some(slot)
     }
 
     fn make_fold(&self, i: usize, k: usize, common: u32) -> Option<Fold> {
@@ -672,7 +679,7 @@ impl CertifiedClipper {
         if k_y == 0 {
             return None;
         }
-        Some(Fold { i: i as u8, k: k as u8, proxy, sign: (k_y * proxy_y) as f64 })
+        Some(Fold { proxy, sign: (k_y * proxy_y) as f64 })
     }
 
     /// Side values of the two ends of edge `u`–`w` against plane `k`, on
@@ -680,7 +687,7 @@ impl CertifiedClipper {
     fn edge_sides(&mut self, u: usize, w: usize, k: usize) -> [(f64, f64); 2] {
         let common = self.on[u] & self.on[w] & self.partners[k];
         if common != 0 {
-            if let Some(f) = self.fold(common.trailing_zeros() as usize, k) {
+            if let Some(Some(f)) = self.fold(common.trailing_zeros() as usize, k).map(|slot| &self.folds[slot].2) {
                 let side = |x, r| {
                     let (s, e) = f.proxy.side(x, r);
                     (s * f.sign, e)
@@ -721,18 +728,20 @@ impl CertifiedClipper {
         // vertex.
         let mut edge = bits(common);
         let (Some(i), Some(j)) = (edge.next(), edge.next()) else { return false };
-        let mut planes = [self.planes[i], self.planes[j], self.planes[k]];
+        let mut planes = [&self.planes[i], &self.planes[j], &self.planes[k]];
+        let proxy;
         for (x, y) in [(0, 1), (0, 2), (1, 2)] {
             let mut shared = bits((planes[x].through & planes[y].through) as u64);
             if let (Some(a), Some(c)) = (shared.next(), shared.next()) {
                 let (a, c) = (self.points[a], self.points[c]);
                 if a != c {
-                    planes[y] = line_proxy(&planes[x], a, c);
+                    proxy = line_proxy(planes[x], a, c);
+                    planes[y] = &proxy;
                     break;
                 }
             }
         }
-        let Some((x, rad)) = Self::certify_vertex(guess, &planes) else { return false };
+        let Some((x, rad)) = Self::certify_vertex(guess, planes) else { return false };
         self.place(out, on, x, rad)
     }
 
@@ -849,7 +858,7 @@ impl CertifiedClipper {
     /// The bound follows the actual residual, so errors do not accumulate
     /// from one clip to the next. One Newton step `x̃ − M ρ̃` first brings
     /// the estimate within rounding of the exact point.
-    fn certify_vertex(guess: DVec3, planes: &[FloatPlane; 3]) -> Option<(DVec3, DVec3)> {
+    fn certify_vertex(guess: DVec3, planes: [&FloatPlane; 3]) -> Option<(DVec3, DVec3)> {
         let [p0, p1, p2] = planes;
         let n = DMat3::from_cols(p0.n, p1.n, p2.n).transpose();
         let det = n.determinant();
@@ -858,7 +867,7 @@ impl CertifiedClipper {
         }
         let m = n.inverse();
         let residual = |x: DVec3| {
-            let [(a, ea), (b, eb), (c, ec)] = [p0, p1, p2].map(|p| p.side(x, DVec3::ZERO));
+            let ((a, ea), (b, eb), (c, ec)) = (p0.side(x, DVec3::ZERO), p1.side(x, DVec3::ZERO), p2.side(x, DVec3::ZERO));
             (DVec3::new(a, b, c), DVec3::new(ea, eb, ec))
         };
         let (rho, _) = residual(guess);
@@ -888,15 +897,18 @@ impl CertifiedClipper {
     /// assembled once, in `write`.
     fn cut(&mut self, k: usize) -> bool {
         let old_n = self.n_verts;
-        let (mut inside, mut n_in) = ([0u8; CAP_V], 0);
         let (mut outside, mut n_out) = ([0u8; CAP_V], 0);
         let bit = 1u64 << k;
         let mut on_k = 0;
+        // Inside vertices on each plane, as sets of vertex slots; an outside
+        // vertex's inside neighbours are those in two of its planes' sets.
+        let mut inside_on = [0u128; MAX_FAST_PLANES];
         for v in 0..old_n {
             match self.sign[v] {
                 s if s < 0 => {
-                    inside[n_in] = v as u8;
-                    n_in += 1;
+                    for i in bits(self.on[v]) {
+                        inside_on[i] |= 1 << v;
+                    }
                 }
                 s if s > 0 => {
                     outside[n_out] = v as u8;
@@ -909,15 +921,19 @@ impl CertifiedClipper {
             }
         }
         let mut n_new = old_n;
-        for &u in &inside[..n_in] {
-            let on_u = self.on[u as usize];
-            for &w in &outside[..n_out] {
-                if two_or_more(on_u & self.on[w as usize]) {
-                    if n_new >= CAP_V || !self.crossing(u as usize, w as usize, k, n_new) {
-                        return false;
-                    }
-                    n_new += 1;
+        for &w in &outside[..n_out] {
+            let (mut once, mut twice) = (0u128, 0u128);
+            for i in bits(self.on[w as usize]) {
+                twice |= once & inside_on[i];
+                once |= inside_on[i];
+            }
+            while twice != 0 {
+                let u = twice.trailing_zeros() as usize;
+                twice &= twice - 1;
+                if n_new >= CAP_V || !self.crossing(u, w as usize, k, n_new) {
+                    return false;
                 }
+                n_new += 1;
             }
         }
         // The cap is a polygon: at least three vertices on k.
