@@ -309,6 +309,8 @@ pub(crate) struct CertifiedClipper {
     folds: [(u8, u8, Option<Fold>); FOLD_CACHE],
     /// Planes that cut.
     pub cuts: u16,
+    /// The face of S (axis, upper) that closes a directional light's hull.
+    closed_by_scene_face: Option<(u8, bool)>,
 }
 
 const DUMMY_PLANE: FloatPlane = FloatPlane {
@@ -342,14 +344,15 @@ impl CertifiedClipper {
             sign: [0; CAP_V],
             folds: [(NONE, NONE, None); FOLD_CACHE],
             cuts: 0,
+            closed_by_scene_face: None,
         }
     }
 
     /// Starts from `hull(V ∪ {l})` itself, built from the exact beneath–
     /// beyond signs behind `hull`: its vertices are frustum corners and the
     /// light, all exact input points. A directional light's unbounded hull is
-    /// closed by a plane beyond the scene box and the frustum, which cuts
-    /// nothing of `H`. `Uncertain` when some face plane contains the light
+    /// closed by a plane that holds the scene box and the frustum (the face
+    /// of S the light enters through, when it can), which cuts nothing of `H`. `Uncertain` when some face plane contains the light
     /// (the faces are then not all distinct planes).
     pub(crate) fn reset_to_hull(
         &mut self,
@@ -362,6 +365,7 @@ impl CertifiedClipper {
         self.n_planes = 0;
         self.n_verts = 0;
         self.cuts = 0;
+        self.closed_by_scene_face = None;
         self.folds = [(NONE, NONE, None); FOLD_CACHE];
         // NOTE: beneath–beyond takes the frustum's faces as the hull's; when
         // faces are coplanar the hull's faces differ (merged, with corners
@@ -394,10 +398,11 @@ impl CertifiedClipper {
             self.partners[p] = 0;
         }
         self.n_planes = hull.as_slice().len();
+        // The closing plane and the direction toward the light.
         let closing = match apex {
             Apex::Finite(_) => None,
             Apex::Infinite(toward) => match self.closing_plane(toward, scene, corners) {
-                Some(c) => Some(c),
+                Some(c) => Some((c, toward)),
                 None => return Step::Uncertain,
             },
         };
@@ -416,10 +421,10 @@ impl CertifiedClipper {
                     face[1] = self.input_vertex(&mut vid, b as usize);
                     match closing {
                         None => face[2] = self.input_vertex(&mut vid, 8),
-                        Some(cap) => {
+                        Some((cap, toward)) => {
                             for (slot, c) in [(2, b), (3, a)] {
                                 if shadow[c as usize] == NONE {
-                                    let Some(v) = self.shadow_vertex(hull, c, cap) else { return Step::Uncertain };
+                                    let Some(v) = self.shadow_vertex(hull, c, cap, toward) else { return Step::Uncertain };
                                     shadow[c as usize] = v;
                                 }
                                 face[slot] = shadow[c as usize];
@@ -453,9 +458,26 @@ impl CertifiedClipper {
         vid[i]
     }
 
-    /// A plane `g · x ≤ h` (g toward the light) beyond every frustum corner
-    /// and scene corner; appended to the planes, its index returned.
+    /// A plane `g · x ≤ h` (g toward the light) that holds S and every
+    /// frustum corner strictly inside; appended to the planes, its index
+    /// returned.
     fn closing_plane(&mut self, toward: DVec3, scene: &Aabb, corners: &[DVec3; 8]) -> Option<usize> {
+        // The face of S the light comes through, when every frustum corner
+        // lies strictly inside it: it bounds H anyway (so the scene clip can
+        // skip it), its shadow vertices have an exact coordinate, and no
+        // shadow is made only to be cut away. The axis is the one the light
+        // crosses most steeply.
+        let axis = toward.abs().max_position();
+        let upper = toward[axis] > 0.0;
+        let value = if upper { scene.max[axis] } else { scene.min[axis] };
+        if corners.iter().all(|c| if upper { c[axis] < value } else { c[axis] > value }) && self.n_planes < MAX_FAST_PLANES {
+            let k = self.n_planes;
+            self.planes[k] = FloatPlane::new(Plane::Axis { axis: axis as u8, upper, value }, 0);
+            self.partners[k] = 0;
+            self.n_planes += 1;
+            self.closed_by_scene_face = Some((axis as u8, upper));
+            return Some(k);
+        }
         // NOTE: each g · x is within 3u·(|g|·|x|) of the exact value; the
         // highest value plus its error, padded by 1/64 of the spread (so the
         // plane passes near no corner) and rounded up once more, is beyond
@@ -495,7 +517,7 @@ impl CertifiedClipper {
 
     /// Where the light's ray through frustum corner `c` meets the closing
     /// plane: on the two horizon planes through `c` and the closing plane.
-    fn shadow_vertex(&mut self, hull: &PlaneSet, c: u8, cap: usize) -> Option<u8> {
+    fn shadow_vertex(&mut self, hull: &PlaneSet, c: u8, cap: usize, toward: DVec3) -> Option<u8> {
         let mut sides = [0usize; 2];
         let mut n = 0;
         for (p, origin) in hull.origins().iter().enumerate() {
@@ -513,7 +535,7 @@ impl CertifiedClipper {
             return None;
         }
         // On the ray from the corner toward the light (both exact).
-        let (pos, rad) = line_crossing(self.points[c as usize], self.planes[cap].n, false, &self.planes[cap])?;
+        let (pos, rad) = line_crossing(self.points[c as usize], toward, false, &self.planes[cap])?;
         let v = self.n_verts;
         self.pos[v] = pos;
         self.rad[v] = rad;
@@ -527,6 +549,9 @@ impl CertifiedClipper {
     pub(crate) fn clip_box(&mut self, b: &Aabb) -> Step {
         for axis in 0..3u8 {
             for upper in [false, true] {
+                if self.closed_by_scene_face == Some((axis, upper)) {
+                    continue;
+                }
                 let value = if upper { b.max[axis as usize] } else { b.min[axis as usize] };
                 let step = self.clip(FloatPlane::new(Plane::Axis { axis, upper, value }, 0));
                 if step != Step::Solid {

@@ -129,7 +129,7 @@ fn corner_bits(idx: &[u8]) -> u32 {
 /// side the normal of the CCW triangle `p, q, r` points to.
 ///
 /// Three stages, cheapest first: a floating-point filter; the exact
-/// determinant in 256-bit integers ([`crate::wide`]) when the coordinates
+/// determinant in fixed-width integers ([`crate::wide`]) when the coordinates
 /// span few binades — where frustum corners almost always are, and where
 /// their nearly coplanar side faces would otherwise cost an adaptive
 /// predicate its slowest stage; else an adaptive predicate or big integers.
