@@ -352,8 +352,9 @@ impl CertifiedClipper {
     /// beyond signs behind `hull`: its vertices are frustum corners and the
     /// light, all exact input points. A directional light's unbounded hull is
     /// closed by a plane that holds the scene box and the frustum (the face
-    /// of S the light enters through, when it can), which cuts nothing of `H`. `Uncertain` when some face plane contains the light
-    /// (the faces are then not all distinct planes).
+    /// of S the light enters through, when it can), which cuts nothing of
+    /// `H`. `Uncertain` when some face plane contains the light (the faces
+    /// are then not all distinct planes).
     pub(crate) fn reset_to_hull(
         &mut self,
         view: &Frustum,
@@ -1075,19 +1076,21 @@ impl CertifiedClipper {
         // NOTE: fan terms of a convex polygon all point one way, so `A` has no
         // cancellation. A difference d = x_k − x_0 is off by the two radii and
         // its rounding; a cross product of perturbed vectors by
-        // |δa|×|b| + |a|×|δb| + |δa|×|δb| and 3u of |a|×|b|. The plane's own
-        // normal is not used: it may be known less well than the polygon.
+        // |δa|×|b| + |a|×|δb| + |δa|×|δb|, its own rounding by 2u of |a|×|b|,
+        // and the running sum by (terms)·u of the same. The plane's own normal
+        // is not used: it may be known less well than the polygon.
         let (x0, r0) = (self.pos[cycle[0] as usize], self.rad[cycle[0] as usize]);
         let edge = |v: usize| {
             let d = self.pos[v] - x0;
             (d, self.rad[v] + r0 + d.abs() * U)
         };
+        let rounding = (cycle.len() as f64 + 2.0) * U;
         let (mut area, mut err) = (DVec3::ZERO, DVec3::ZERO);
         let (mut a, mut ea) = edge(cycle[1] as usize);
         for &v in &cycle[2..] {
             let (b, eb) = edge(v as usize);
             area += a.cross(b);
-            err += abs_cross(ea, b) + abs_cross(a, eb) + abs_cross(ea, eb) + abs_cross(a, b) * (3.0 * U);
+            err += abs_cross(ea, b) + abs_cross(a, eb) + abs_cross(ea, eb) + abs_cross(a, b) * rounding;
             (a, ea) = (b, eb);
         }
         // Against the vertices off the plane, until one proves the side (a

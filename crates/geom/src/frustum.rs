@@ -206,7 +206,8 @@ fn orient_static(p: DVec3, q: DVec3, r: DVec3, x: DVec3) -> Option<i8> {
 ///
 /// NOTE: `(x − p) · ((q − p) × (r − p))` is the determinant of three rounded
 /// differences expanded into 2×2 minors, as in [`orient_static`] (there along
-/// a row, here along a column: the same terms), so the same bound holds.
+/// a row, here along a column: terms of the same form), so the same bound
+/// holds.
 /// Valid only for inputs in the safe range.
 struct FaceFilter {
     p: DVec3,
