@@ -1033,22 +1033,28 @@ impl CertifiedClipper {
         }
         out.clear();
         let (mut ni, mut nf) = (0, 0);
+        let mut face_of_plane = [NONE; MAX_FAST_PLANES];
         for p in 0..self.n_planes {
             let list = &members[count[p] as usize..count[p + 1] as usize];
             let m = list.len();
             if m < 3 {
                 continue;
             }
-            let Some(cycle) = self.face_cycle(p, list) else { return false };
-            if ni + m > MAX_FACE_INDICES {
+            if ni + m > MAX_FACE_INDICES || self.face_cycle(p, list, &mut out.idx[ni..ni + m]).is_none() {
                 return false;
             }
-            out.face_start[nf] = ni as u16;
-            for &v in &cycle[..m] {
-                out.idx[ni] = v as u16;
-                ni += 1;
+            let cycle = &out.idx[ni..ni + m];
+            let Some(reverse) = self.reversed_by_neighbour(p, cycle, out, &face_of_plane).or_else(|| self.reversed_by_geometry(p, cycle)) else {
+                return false;
+            };
+            if reverse {
+                out.idx[ni + 1..ni + m].reverse();
             }
+            out.face_start[nf] = ni as u16;
+            ni += m;
+            out.face_start[nf + 1] = ni as u16;
             out.face_planes[nf] = self.planes[p].approximate();
+            face_of_plane[p] = nf as u8;
             nf += 1;
         }
         // Euler's formula for a closed convex surface: every edge is in two
@@ -1072,7 +1078,7 @@ impl CertifiedClipper {
     /// seen from outside, from its area vector `A` (a fan from its first
     /// vertex): `A` must point away from the body's vertices off the plane.
     /// `None` when the bounds cannot prove it.
-    fn area_orientation(&self, p: usize, cycle: &[u8]) -> Option<bool> {
+    fn area_orientation(&self, p: usize, cycle: &[u16]) -> Option<bool> {
         // NOTE: fan terms of a convex polygon all point one way, so `A` has no
         // cancellation. A difference d = x_k − x_0 is off by the two radii and
         // its rounding; a cross product of perturbed vectors by
@@ -1103,28 +1109,68 @@ impl CertifiedClipper {
         })
     }
 
-    /// The vertices of plane `p`'s face in counter-clockwise order seen from
-    /// outside, chained through the edges (pairs on two common planes).
-    fn face_cycle(&self, p: usize, members: &[u8]) -> Option<[u8; MAX_FAST_PLANES]> {
+    /// Writes the vertices of plane `p`'s face into `cycle`, chained through
+    /// the edges (pairs on two common planes) in either direction; `None` when
+    /// the chain does not close.
+    fn face_cycle(&self, p: usize, members: &[u8], cycle: &mut [u16]) -> Option<()> {
         let m = members.len();
-        let mut cycle = [0u8; MAX_FAST_PLANES];
-        // Positions in `members` already placed.
+        // Two members are adjacent when they share a plane besides p.
+        let others = !(1u64 << p);
+        // Positions in `members` already placed; each step takes a neighbour
+        // of the current vertex other than the one it came from.
         let (mut prev, mut cur) = (usize::MAX, 0);
         let mut placed = 1u64;
-        cycle[0] = members[0];
+        cycle[0] = members[0] as u16;
         for slot in cycle.iter_mut().take(m).skip(1) {
-            let on_cur = self.on[members[cur] as usize];
-            let next = (0..m).find(|&w| w != cur && w != prev && two_or_more(on_cur & self.on[members[w] as usize]))?;
+            let here = self.on[members[cur] as usize] & others;
+            let next = (0..m).find(|&w| w != cur && w != prev && self.on[members[w] as usize] & here != 0)?;
             if placed & 1 << next != 0 {
                 return None;
             }
             placed |= 1 << next;
-            *slot = members[next];
+            *slot = members[next] as u16;
             (prev, cur) = (cur, next);
         }
-        if !two_or_more(self.on[cycle[m - 1] as usize] & self.on[cycle[0] as usize]) {
+        if self.on[members[cur] as usize] & self.on[members[0] as usize] & others == 0 {
             return None;
         }
+        Some(())
+    }
+
+    /// Whether the chained cycle of plane `p`'s face must be reversed, read
+    /// off a face already written across one of its edges: consistently
+    /// oriented faces run along a shared edge in opposite directions. `None`
+    /// when no written face shares an edge.
+    fn reversed_by_neighbour(&self, p: usize, cycle: &[u16], out: &Body, face_of_plane: &[u8; MAX_FAST_PLANES]) -> Option<bool> {
+        let m = cycle.len();
+        let others = !(1u64 << p);
+        for s in 0..m {
+            let (a, b) = (cycle[s], cycle[(s + 1) % m]);
+            for q in bits(self.on[a as usize] & self.on[b as usize] & others) {
+                if face_of_plane[q] == NONE {
+                    continue;
+                }
+                let g = out.face(face_of_plane[q] as usize);
+                let n = g.len();
+                let k = g.iter().position(|&v| v == a)?;
+                return if g[(k + 1) % n] == b {
+                    Some(true)
+                } else if g[(k + n - 1) % n] == b {
+                    Some(false)
+                } else {
+                    None
+                };
+            }
+        }
+        None
+    }
+
+    /// Whether the chained cycle of plane `p`'s face must be reversed to run
+    /// counter-clockwise from outside, proven from the planes' normals or the
+    /// face's area vector.
+    fn reversed_by_geometry(&self, p: usize, cycle: &[u16]) -> Option<bool> {
+        let m = cycle.len();
+        let others = !(1u64 << p);
         // NOTE: at a vertex v with neighbours a (next) and b (previous), the
         // edge v → a runs along planes p and i, into the inner side of j (the
         // plane of edge v → b), and likewise with i and j swapped. Writing
@@ -1137,7 +1183,6 @@ impl CertifiedClipper {
         // Where every such determinant is too close to zero (nearly dependent
         // planes, or a plane whose normal is barely known: three nearly
         // collinear defining points) the polygon's area vector decides.
-        let others = !(1u64 << p);
         let decided = (0..m)
             .find_map(|s| {
                 let (v, a, b) = (cycle[s] as usize, cycle[(s + 1) % m] as usize, cycle[(s + m - 1) % m] as usize);
@@ -1145,9 +1190,6 @@ impl CertifiedClipper {
                 bits(to_a).find_map(|i| bits(to_b).find_map(|j| Self::normals_det_sign(&self.planes[p], &self.planes[i], &self.planes[j])))
             })
             .or_else(|| self.area_orientation(p, &cycle[..m]).map(|ccw| if ccw { -1 } else { 1 }))?;
-        if decided > 0 {
-            cycle[1..m].reverse();
-        }
-        Some(cycle)
+        Some(decided > 0)
     }
 }
