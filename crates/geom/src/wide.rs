@@ -24,9 +24,17 @@ const LIMB: u32 = 39;
 
 /// `d = hi · 2^39 + lo` with `0 ≤ lo < 2^39` (arithmetic shift).
 #[inline]
-fn limbs(d: i128) -> (i128, i128) {
+fn limbs(d: i128) -> (i64, i64) {
     let hi = d >> LIMB;
-    (hi, d - (hi << LIMB))
+    // NOTE: both parts fit an i64, so their products are single 64×64→128
+    // multiplications.
+    (hi as i64, (d - (hi << LIMB)) as i64)
+}
+
+/// The exact product of two limbs.
+#[inline]
+fn wide_mul(x: i64, y: i64) -> i128 {
+    x as i128 * y as i128
 }
 
 /// A 2×2 minor `x0·y1 − x1·y0` of differences below 2^77, exactly, as
@@ -39,7 +47,7 @@ fn limbs(d: i128) -> (i128, i128) {
 fn minor(x0: i128, y1: i128, x1: i128, y0: i128) -> (i128, i128) {
     let product = |x: i128, y: i128| {
         let ((xh, xl), (yh, yl)) = (limbs(x), limbs(y));
-        (xh * yh, ((xh * yl + xl * yh) << LIMB) + xl * yl)
+        (wide_mul(xh, yh), ((wide_mul(xh, yl) + wide_mul(xl, yh)) << LIMB) + wide_mul(xl, yl))
     };
     let ((a1, b1), (a0, b0)) = (product(x0, y1), product(x1, y0));
     let (a, b) = (a1 - a0, b1 - b0);
@@ -99,6 +107,7 @@ pub(crate) fn orient_det_sign(p: [f64; 3], q: [f64; 3], r: [f64; 3], x: [f64; 3]
     let (mut t3, mut t2, mut t1, mut t0) = (0i128, 0i128, 0i128, 0i128);
     for (ai, (big, small)) in a.iter().zip(minors) {
         let (h, l) = limbs(*ai);
+        let (h, l) = (h as i128, l as i128);
         t3 += h * big;
         t2 += l * big;
         t1 += h * small;
