@@ -996,9 +996,9 @@ impl CertifiedClipper {
         decide(det, bound).filter(|&s| s != 0)
     }
 
-    /// Writes the solid into `out`; false (nothing written) when a vertex's
-    /// proven error exceeds the output tolerance or a face's orientation is
-    /// not proven.
+    /// Writes the solid into `out`; false (and `out` left empty) when a
+    /// vertex's proven error exceeds the output tolerance, the faces do not
+    /// chain into a closed surface, or a face's orientation is not proven.
     pub(crate) fn write(&self, out: &mut Body) -> bool {
         let tol = ROUNDING_ULPS * f64::EPSILON;
         for v in 0..self.n_verts {
@@ -1044,9 +1044,8 @@ impl CertifiedClipper {
                 return false;
             }
             let cycle = &out.idx[ni..ni + m];
-            let Some(reverse) = self.reversed_by_neighbour(p, cycle, out, &face_of_plane).or_else(|| self.reversed_by_geometry(p, cycle)) else {
-                return false;
-            };
+            let Ok(neighbour) = self.reversed_by_neighbour(p, cycle, out, &face_of_plane) else { return false };
+            let Some(reverse) = neighbour.or_else(|| self.reversed_by_geometry(p, cycle)) else { return false };
             if reverse {
                 out.idx[ni + 1..ni + m].reverse();
             }
@@ -1139,9 +1138,10 @@ impl CertifiedClipper {
 
     /// Whether the chained cycle of plane `p`'s face must be reversed, read
     /// off a face already written across one of its edges: consistently
-    /// oriented faces run along a shared edge in opposite directions. `None`
-    /// when no written face shares an edge.
-    fn reversed_by_neighbour(&self, p: usize, cycle: &[u16], out: &Body, face_of_plane: &[u8; MAX_FAST_PLANES]) -> Option<bool> {
+    /// oriented faces run along a shared edge in opposite directions.
+    /// `Ok(None)` when no written face shares an edge; `Err` when one does
+    /// but does not hold the edge (inconsistent incidences).
+    fn reversed_by_neighbour(&self, p: usize, cycle: &[u16], out: &Body, face_of_plane: &[u8; MAX_FAST_PLANES]) -> Result<Option<bool>, ()> {
         let m = cycle.len();
         let others = !(1u64 << p);
         for s in 0..m {
@@ -1152,17 +1152,17 @@ impl CertifiedClipper {
                 }
                 let g = out.face(face_of_plane[q] as usize);
                 let n = g.len();
-                let k = g.iter().position(|&v| v == a)?;
+                let k = g.iter().position(|&v| v == a).ok_or(())?;
                 return if g[(k + 1) % n] == b {
-                    Some(true)
+                    Ok(Some(true))
                 } else if g[(k + n - 1) % n] == b {
-                    Some(false)
+                    Ok(Some(false))
                 } else {
-                    None
+                    Err(())
                 };
             }
         }
-        None
+        Ok(None)
     }
 
     /// Whether the chained cycle of plane `p`'s face must be reversed to run
