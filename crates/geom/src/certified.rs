@@ -35,7 +35,7 @@
 //! goes to the exact engine.
 
 use crate::body::{Aabb, Body};
-use crate::frustum::{Apex, Frustum, Origin, PlaneSet};
+use crate::frustum::{abs_cross, Apex, Frustum, Origin, PlaneSet};
 use crate::plane::Plane;
 use crate::polytope::{point_side, ROUNDING_ULPS};
 use crate::{MAX_FACE_INDICES, MAX_VERTICES};
@@ -83,11 +83,6 @@ struct FloatPlane {
     off_bound: f64,
 }
 
-/// `|a| × |b|` with every product added: bounds the rounding of `a × b`.
-fn abs_cross(a: DVec3, b: DVec3) -> DVec3 {
-    let (a, b) = (a.abs(), b.abs());
-    DVec3::new(a.y * b.z + a.z * b.y, a.z * b.x + a.x * b.z, a.x * b.y + a.y * b.x)
-}
 
 impl FloatPlane {
     fn new(src: Plane, through: u32) -> FloatPlane {

@@ -154,7 +154,7 @@ fn orient_checked(p: DVec3, q: DVec3, r: DVec3, x: DVec3, in_range: bool) -> i8 
     fn eval<T: Ring>(p: DVec3, q: DVec3, r: DVec3, x: DVec3) -> T {
         dot(&cross(&diff::<T>(q, p), &diff::<T>(r, p)), &diff::<T>(x, p))
     }
-    let filtered = if in_range { orient_static(p, q, r, x) } else { eval::<Filtered>(p, q, r, x).sign() };
+    let filtered = if in_range { FaceFilter::new(p, q, r).side(x) } else { eval::<Filtered>(p, q, r, x).sign() };
     if let Some(s) = filtered {
         return s;
     }
@@ -176,39 +176,20 @@ fn orient_checked(p: DVec3, q: DVec3, r: DVec3, x: DVec3, in_range: bool) -> i8 
     }
 }
 
-/// The orientation of [`orient`] in plain f64 when a static error bound
-/// proves its sign (inputs in the safe range).
-///
-/// The determinant is `det[p − x, q − x, r − x]`, which is `−` the value
-/// [`orient`] signs; rounding every difference, product and sum once puts
-/// it within `(7 + 56ε)ε` times the permanent (the same expression with
-/// absolute values) of the exact value (Shewchuk's orient3d bound, ε = 2^-53).
-#[inline]
-fn orient_static(p: DVec3, q: DVec3, r: DVec3, x: DVec3) -> Option<i8> {
-    const EPS: f64 = f64::EPSILON / 2.0;
-    const BOUND: f64 = (7.0 + 56.0 * EPS) * EPS;
-    let (a, b, c) = (p - x, q - x, r - x);
-    let (bc, ca, ab) = (b.y * c.z - b.z * c.y, c.y * a.z - c.z * a.y, a.y * b.z - a.z * b.y);
-    let det = a.x * bc + b.x * ca + c.x * ab;
-    let permanent = ((b.y * c.z).abs() + (b.z * c.y).abs()) * a.x.abs() + ((c.y * a.z).abs() + (c.z * a.y).abs()) * b.x.abs() + ((a.y * b.z).abs() + (a.z * b.y).abs()) * c.x.abs();
-    let bound = BOUND * permanent;
-    if det > bound {
-        Some(-1)
-    } else if -det > bound {
-        Some(1)
-    } else {
-        None
-    }
+/// `|a| × |b|` with every product added: bounds the rounding of `a × b`.
+pub(crate) fn abs_cross(a: DVec3, b: DVec3) -> DVec3 {
+    let (a, b) = (a.abs(), b.abs());
+    DVec3::new(a.y * b.z + a.z * b.y, a.z * b.x + a.x * b.z, a.x * b.y + a.y * b.x)
 }
 
-/// [`orient`]'s static filter with the work that depends only on the plane
-/// `p, q, r` done once, for testing many points against one face.
+/// [`orient`]'s static filter, with the work that depends only on the plane
+/// `p, q, r` done once (for testing many points against one face).
 ///
-/// NOTE: `(x − p) · ((q − p) × (r − p))` is the determinant of three rounded
-/// differences expanded into 2×2 minors, as in [`orient_static`] (there along
-/// a row, here along a column: terms of the same form), so the same bound
-/// holds.
-/// Valid only for inputs in the safe range.
+/// NOTE: `(x − p) · ((q − p) × (r − p))` is a 3×3 determinant of rounded
+/// differences expanded into 2×2 minors; rounding every difference, product
+/// and sum once keeps it within `(7 + 56ε)ε` times the permanent (the same
+/// expression with absolute values) of the exact value — Shewchuk's orient3d
+/// bound, ε = 2^-53. Valid only for inputs in the safe range.
 struct FaceFilter {
     p: DVec3,
     normal: DVec3,
@@ -218,9 +199,7 @@ struct FaceFilter {
 impl FaceFilter {
     fn new(p: DVec3, q: DVec3, r: DVec3) -> FaceFilter {
         let (a, b) = (q - p, r - p);
-        let (aa, ba) = (a.abs(), b.abs());
-        let abs_normal = DVec3::new(aa.y * ba.z + aa.z * ba.y, aa.z * ba.x + aa.x * ba.z, aa.x * ba.y + aa.y * ba.x);
-        FaceFilter { p, normal: a.cross(b), abs_normal }
+        FaceFilter { p, normal: a.cross(b), abs_normal: abs_cross(a, b) }
     }
 
     #[inline]
