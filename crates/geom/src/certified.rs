@@ -454,58 +454,45 @@ impl CertifiedClipper {
         vid[i]
     }
 
-    /// A plane `g · x ≤ h` (g toward the light) that holds S and every
-    /// frustum corner strictly inside; appended to the planes, its index
-    /// returned.
+    /// An axis plane that holds S and every frustum corner strictly inside,
+    /// facing the light on the axis the light crosses most steeply; appended
+    /// to the planes, its index returned.
     fn closing_plane(&mut self, toward: DVec3, scene: &Aabb, corners: &[DVec3; 8]) -> Option<usize> {
-        // The face of S the light comes through, when every frustum corner
-        // lies strictly inside it: it bounds H anyway (so the scene clip can
-        // skip it), its shadow vertices have an exact coordinate, and no
-        // shadow is made only to be cut away. The axis is the one the light
-        // crosses most steeply.
         let axis = toward.abs().max_position();
         let upper = toward[axis] > 0.0;
-        let value = if upper { scene.max[axis] } else { scene.min[axis] };
-        if corners.iter().all(|c| if upper { c[axis] < value } else { c[axis] > value }) && self.n_planes < MAX_FAST_PLANES {
-            let k = self.n_planes;
-            self.planes[k] = FloatPlane::new(Plane::Axis { axis: axis as u8, upper, value }, 0);
-            self.partners[k] = 0;
-            self.n_planes += 1;
+        let face = if upper { scene.max[axis] } else { scene.min[axis] };
+        let beyond = |value: f64, c: f64| if upper { c < value } else { c > value };
+        let value = if corners.iter().all(|c| beyond(face, c[axis])) {
+            // The face of S the light comes through: it bounds H anyway (so
+            // the scene clip can skip it), and no shadow is made only to be
+            // cut away.
             self.closed_by_scene_face = Some((axis as u8, upper));
-            return Some(k);
-        }
-        // NOTE: each g · x is within 3u·(|g|·|x|) of the exact value; the
-        // highest value plus its error, padded by 1/64 of the spread (so the
-        // plane passes near no corner) and rounded up once more, is beyond
-        // every corner exactly.
-        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-        let ga = toward.abs();
-        for i in 0..16 {
-            let x = if i < 8 {
-                corners[i]
-            } else {
-                let j = i - 8;
-                DVec3::new(
-                    if j & 1 != 0 { scene.max.x } else { scene.min.x },
-                    if j & 2 != 0 { scene.max.y } else { scene.min.y },
-                    if j & 4 != 0 { scene.max.z } else { scene.min.z },
-                )
-            };
-            let v = toward.dot(x);
-            let err = 4.0 * U * ga.dot(x.abs());
-            lo = lo.min(v - err);
-            hi = hi.max(v + err);
-        }
-        let h = hi + (hi - lo) * (1.0 / 64.0);
-        let h = h + h.abs() * (4.0 * U) + f64::MIN_POSITIVE;
-        if !(h.is_finite() && h > hi) {
-            return None;
-        }
+            face
+        } else {
+            // NOTE: the extreme coordinate of S and the corners is an input
+            // value, so exact; padding it by 1/64 of the spread keeps the
+            // plane away from every corner, and any float beyond it is
+            // strictly beyond.
+            let (mut lo, mut hi) = (scene.min[axis], scene.max[axis]);
+            for c in corners {
+                lo = lo.min(c[axis]);
+                hi = hi.max(c[axis]);
+            }
+            let pad = (hi - lo) * (1.0 / 64.0);
+            let (value, extreme) = if upper { (hi + pad, hi) } else { (lo - pad, lo) };
+            if !(value.is_finite() && beyond(value, extreme)) {
+                return None;
+            }
+            value
+        };
+        // An axis plane gives the shadow vertices an exact coordinate and
+        // cheap crossings with the scene's faces.
         let k = self.n_planes;
         if k >= MAX_FAST_PLANES {
+            self.closed_by_scene_face = None;
             return None;
         }
-        self.planes[k] = FloatPlane::new(Plane::Coefficients { normal: toward, offset: -h }, 0);
+        self.planes[k] = FloatPlane::new(Plane::Axis { axis: axis as u8, upper, value }, 0);
         self.partners[k] = 0;
         self.n_planes += 1;
         Some(k)
@@ -542,13 +529,19 @@ impl CertifiedClipper {
     }
 
     /// Clips by the six faces of a box.
+    ///
+    /// A face whose plane clears the body's bounding box is not clipped: it
+    /// neither cuts nor touches, so clipping would only prove every vertex
+    /// inside, one by one.
     pub(crate) fn clip_box(&mut self, b: &Aabb) -> Step {
+        let (lo, hi) = self.bounds();
         for axis in 0..3u8 {
+            let a = axis as usize;
             for upper in [false, true] {
-                if self.closed_by_scene_face == Some((axis, upper)) {
+                let value = if upper { b.max[a] } else { b.min[a] };
+                if self.closed_by_scene_face == Some((axis, upper)) || if upper { value > hi[a] } else { value < lo[a] } {
                     continue;
                 }
-                let value = if upper { b.max[axis as usize] } else { b.min[axis as usize] };
                 let step = self.clip(FloatPlane::new(Plane::Axis { axis, upper, value }, 0));
                 if step != Step::Solid {
                     return step;
@@ -558,12 +551,45 @@ impl CertifiedClipper {
         Step::Solid
     }
 
+    /// Bounds `lo`, `hi` such that every vertex's exact position `x` has
+    /// `lo < x < hi` or lies on them, and a plane strictly beyond them
+    /// (`value > hi` or `value < lo`) proves every vertex strictly inside.
+    fn bounds(&self) -> (DVec3, DVec3) {
+        // NOTE: the exact coordinate lies within `rad` of `pos`; widening by
+        // 4·rad + 4u·|pos| more than covers the rounding of the sum itself
+        // (≤ u of its magnitude), so a plane value beyond the widened bound is
+        // at least 3·rad + 2u·|pos| away from `pos`, which `clip`'s side test
+        // would have decided as strictly inside.
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for v in 0..self.n_verts {
+            let (x, r) = (self.pos[v], self.rad[v]);
+            let pad = r * 4.0 + x.abs() * (4.0 * U);
+            lo = lo.min(x - pad);
+            hi = hi.max(x + pad);
+        }
+        (lo, hi)
+    }
+
     /// Clips by every plane of a set (`light_frustum`: the set is the light
     /// frustum's, whose corners are input points 9–16).
+    ///
+    /// As in `clip_box`, a plane the body's bounding box lies strictly
+    /// inside of is not clipped.
     pub(crate) fn clip_set(&mut self, set: &PlaneSet, light_frustum: bool) -> Step {
+        let (lo, hi) = self.bounds();
+        // NOTE: the box as a point known within a radius: the radius is
+        // rounded up past both half-extents, so the side test's bound covers
+        // every point of the box.
+        let centre = (lo + hi) * 0.5;
+        let radius = (hi - centre).max(centre - lo) * (1.0 + 4.0 * U);
         for (p, &through) in set.as_slice().iter().zip(set.through()) {
             let through = if light_frustum { through << LIGHT_FRUSTUM_SHIFT } else { through };
-            let step = self.clip(FloatPlane::new(*p, through));
+            let plane = FloatPlane::new(*p, through);
+            let (s, e) = plane.side(centre, radius);
+            if decide(s, e) == Some(-1) {
+                continue;
+            }
+            let step = self.clip(plane);
             if step != Step::Solid {
                 return step;
             }
