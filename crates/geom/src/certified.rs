@@ -988,8 +988,8 @@ impl CertifiedClipper {
             return false;
         }
         // Drop the vertices outside.
-        let mut n = 0;
-        for v in 0..n_new {
+        let mut n = self.sign[..old_n].iter().position(|&s| s > 0).unwrap_or(old_n);
+        for v in n..n_new {
             if v >= old_n || self.sign[v] <= 0 {
                 self.pos[n] = self.pos[v];
                 self.rad[n] = self.rad[v];
