@@ -145,6 +145,9 @@ pub struct FocusStats {
     pub planes_offered: u16,
     /// Halfspaces that actually cut.
     pub planes_cut: u16,
+    /// Faces of `S` and `L` the certified path did not clip because the
+    /// body's bounding box lies strictly inside them.
+    pub planes_cleared: u16,
     /// Stopped early because the body became empty.
     pub early_exit: bool,
     /// Predicates the floating-point filter could not decide (exact path).
@@ -472,6 +475,7 @@ fn compute_planned(out: &mut Body, plan: &mut Plan, view: &Frustum, light: &Ligh
             Step::Uncertain => false,
         };
         stats.planes_cut = fast.cuts;
+        stats.planes_cleared = fast.cleared;
         out.fast = Some(fast);
     }
     if answered {
@@ -485,6 +489,7 @@ fn compute_planned(out: &mut Body, plan: &mut Plan, view: &Frustum, light: &Ligh
         }
         stats.early_exit |= work.is_empty();
         stats.planes_cut = work.plane_count().saturating_sub(6) as u16;
+        stats.planes_cleared = 0;
         work.write_rounded(out);
         stats.exact_evaluations = work.exact_evaluations();
         out.work = Some(work);

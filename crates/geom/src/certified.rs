@@ -304,6 +304,8 @@ pub(crate) struct CertifiedClipper {
     folds: [(u8, u8, Option<Fold>); FOLD_CACHE],
     /// Planes that cut.
     pub cuts: u16,
+    /// Planes of S and L not clipped: the body's bounding box clears them.
+    pub cleared: u16,
     /// The face of S (axis, upper) that closes a directional light's hull.
     closed_by_scene_face: Option<(u8, bool)>,
 }
@@ -339,6 +341,7 @@ impl CertifiedClipper {
             sign: [0; CAP_V],
             folds: [(NONE, NONE, None); FOLD_CACHE],
             cuts: 0,
+            cleared: 0,
             closed_by_scene_face: None,
         }
     }
@@ -361,6 +364,7 @@ impl CertifiedClipper {
         self.n_planes = 0;
         self.n_verts = 0;
         self.cuts = 0;
+        self.cleared = 0;
         self.closed_by_scene_face = None;
         self.folds = [(NONE, NONE, None); FOLD_CACHE];
         // NOTE: beneath–beyond takes the frustum's faces as the hull's; when
@@ -458,6 +462,10 @@ impl CertifiedClipper {
     /// facing the light on the axis the light crosses most steeply; appended
     /// to the planes, its index returned.
     fn closing_plane(&mut self, toward: DVec3, scene: &Aabb, corners: &[DVec3; 8]) -> Option<usize> {
+        let k = self.n_planes;
+        if k >= MAX_FAST_PLANES {
+            return None;
+        }
         let axis = toward.abs().max_position();
         let upper = toward[axis] > 0.0;
         let face = if upper { scene.max[axis] } else { scene.min[axis] };
@@ -487,11 +495,6 @@ impl CertifiedClipper {
         };
         // An axis plane gives the shadow vertices an exact coordinate and
         // cheap crossings with the scene's faces.
-        let k = self.n_planes;
-        if k >= MAX_FAST_PLANES {
-            self.closed_by_scene_face = None;
-            return None;
-        }
         self.planes[k] = FloatPlane::new(Plane::Axis { axis: axis as u8, upper, value }, 0);
         self.partners[k] = 0;
         self.n_planes += 1;
@@ -539,7 +542,11 @@ impl CertifiedClipper {
             let a = axis as usize;
             for upper in [false, true] {
                 let value = if upper { b.max[a] } else { b.min[a] };
-                if self.closed_by_scene_face == Some((axis, upper)) || if upper { value > hi[a] } else { value < lo[a] } {
+                if self.closed_by_scene_face == Some((axis, upper)) {
+                    continue;
+                }
+                if if upper { value > hi[a] } else { value < lo[a] } {
+                    self.cleared += 1;
                     continue;
                 }
                 let step = self.clip(FloatPlane::new(Plane::Axis { axis, upper, value }, 0));
@@ -551,15 +558,13 @@ impl CertifiedClipper {
         Step::Solid
     }
 
-    /// Bounds `lo`, `hi` such that every vertex's exact position `x` has
-    /// `lo < x < hi` or lies on them, and a plane strictly beyond them
-    /// (`value > hi` or `value < lo`) proves every vertex strictly inside.
+    /// Per-axis bounds on the vertices' exact positions (`lo ≤ x ≤ hi`), so
+    /// that a plane strictly beyond them has every vertex strictly inside.
     fn bounds(&self) -> (DVec3, DVec3) {
-        // NOTE: the exact coordinate lies within `rad` of `pos`; widening by
-        // 4·rad + 4u·|pos| more than covers the rounding of the sum itself
-        // (≤ u of its magnitude), so a plane value beyond the widened bound is
-        // at least 3·rad + 2u·|pos| away from `pos`, which `clip`'s side test
-        // would have decided as strictly inside.
+        // NOTE: the exact coordinate lies within `rad` of `pos`; the pad
+        // 4·rad + 4u·|pos| leaves 3·rad + 4u·|pos| beyond that, more than the
+        // roundings of the pad and of the sum (each under u of its
+        // magnitude).
         let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
         for v in 0..self.n_verts {
             let (x, r) = (self.pos[v], self.rad[v]);
@@ -587,6 +592,7 @@ impl CertifiedClipper {
             let plane = FloatPlane::new(*p, through);
             let (s, e) = plane.side(centre, radius);
             if decide(s, e) == Some(-1) {
+                self.cleared += 1;
                 continue;
             }
             let step = self.clip(plane);

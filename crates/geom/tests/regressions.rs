@@ -273,3 +273,48 @@ fn a_scene_face_in_a_frustum_face_plane_adds_no_edges() {
         assert!((body.volume() - reference.volume()).abs() <= 1e-12 * reference.volume());
     }
 }
+
+/// Faces of S and L that the body's bounding box lies strictly inside of are
+/// not clipped (they could neither cut nor touch), and the body is still the
+/// exact engine's. The counts fail if the skip stops happening or starts
+/// skipping a face that cuts.
+#[test]
+fn faces_the_body_clears_are_skipped_without_changing_it() {
+    let view = simple_view();
+    let sizes = |b: &Body| {
+        let mut s: Vec<usize> = b.faces().map(|f| f.len()).collect();
+        s.sort();
+        s
+    };
+    let same_as_exact = |body: &Body, light: &Light, scene: &Aabb| {
+        let mut reference = Body::new();
+        shadowfocus_geom::focus_body_exact_into(&mut reference, &view, light, scene).unwrap();
+        assert!(body.stats().float_path, "the float path declined: {body:?}");
+        assert_eq!(body.vertices().len(), reference.vertices().len(), "{body:?}\n{reference:?}");
+        assert_eq!(sizes(body), sizes(&reference), "{body:?}\n{reference:?}");
+        assert!((body.volume() - reference.volume()).abs() <= 1e-12 * reference.volume());
+    };
+    // A sun high above (the light enters through S's top face, which closes
+    // the hull): S's faces at x = ±100, y = −100 and z = 50 clear the swept
+    // frustum; z = −5 cuts it.
+    let sun = Light::directional(DVec3::new(0.125, -1.0, 0.0625)).unwrap();
+    let scene = Aabb::new(DVec3::new(-100.0, -100.0, -5.0), DVec3::new(100.0, 100.0, 50.0)).unwrap();
+    let body = focus_body(&view, &sun, &scene).unwrap();
+    assert_eq!((body.stats().planes_cleared, body.stats().planes_cut), (4, 1), "{:?}", body.stats());
+    same_as_exact(&body, &sun, &scene);
+
+    // A spot light above V whose frustum holds all of hull(V ∪ {l}) ∩ S: its
+    // four side faces and its far face clear the body; its near face (the
+    // apex's side of the body) is clipped, and cuts nothing.
+    let apex = DVec3::new(0.0, 30.0, -4.0);
+    let mut corners = [DVec3::ZERO; 8];
+    for (k, t) in [1.0, 60.0].into_iter().enumerate() {
+        for (i, (x, z)) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)].into_iter().enumerate() {
+            corners[4 * k + i] = apex + DVec3::new(x * t, -t, z * t);
+        }
+    }
+    let spot = Light::spot(apex, Frustum::from_corners(corners).unwrap()).unwrap();
+    let body = focus_body(&view, &spot, &scene).unwrap();
+    assert!(body.stats().planes_cleared >= 5, "{:?}", body.stats());
+    same_as_exact(&body, &spot, &scene);
+}
