@@ -254,14 +254,6 @@ impl Body {
         &self.face_planes[..self.n_faces]
     }
 
-    /// Volume from the rounded vertices (0 unless solid).
-    ///
-    /// NOTE: computed on request (a few hundred flops) rather than with
-    /// every body: fitting a shadow map never needs it.
-    pub fn volume(&self) -> f64 {
-        self.compute_volume()
-    }
-
     pub fn stats(&self) -> &FocusStats {
         &self.stats
     }
@@ -287,7 +279,11 @@ impl Body {
         Aabb::around(self.vertices())
     }
 
-    fn compute_volume(&self) -> f64 {
+    /// Volume from the rounded vertices (0 unless solid).
+    ///
+    /// NOTE: computed on request (a few hundred flops) rather than with
+    /// every body: fitting a shadow map never needs it.
+    pub fn volume(&self) -> f64 {
         if self.dim != 3 || self.n_verts == 0 {
             return 0.0;
         }

@@ -681,8 +681,7 @@ impl CertifiedClipper {
         // A point on several planes that share a line with k: any of them
         // may decide (the point can lie close to one line and far from another).
         for i in bits(self.on[v] & self.partners[k]) {
-            if let Some(slot) = self.fold(i, k) {
-                let Some(fold) = &self.folds[slot].2 else { continue };
+            if let Some(fold) = self.fold(i, k) {
                 let (s, e) = fold.proxy.side(x, r);
                 if let Some(s) = decide(s, e) {
                     return Some(s * fold.sign as i8);
@@ -703,17 +702,19 @@ impl CertifiedClipper {
 
     /// The fold proxy for points on plane `i` tested against plane `k`
     /// (planes sharing a line of input points), cached per body.
-    ///
-    /// Returns the cache slot holding it; `None` when the pair has no proxy.
-    fn fold(&mut self, i: usize, k: usize) -> Option<usize> {
+    /// `None` when the pair has no proxy.
+    fn fold(&mut self, i: usize, k: usize) -> Option<&Fold> {
         let key = (i as u8, k as u8);
-        if let Some(slot) = self.folds.iter().position(|e| (e.0, e.1) == key) {
-            return self.folds[slot].2.is_some().then_some(slot);
-        }
-        let f = self.make_fold(i, k, self.planes[i].through & self.planes[k].through);
-        let slot = self.folds.iter().position(|e| e.0 == NONE).unwrap_or(k % FOLD_CACHE);
-        self.folds[slot] = (key.0, key.1, f);
-        f.is_some().then_some(slot)
+        let slot = match self.folds.iter().position(|e| (e.0, e.1) == key) {
+            Some(slot) => slot,
+            None => {
+                let f = self.make_fold(i, k, self.planes[i].through & self.planes[k].through);
+                let slot = self.folds.iter().position(|e| e.0 == NONE).unwrap_or(k % FOLD_CACHE);
+                self.folds[slot] = (key.0, key.1, f);
+                slot
+            }
+        };
+        self.folds[slot].2.as_ref()
     }
 
     fn make_fold(&self, i: usize, k: usize, common: u32) -> Option<Fold> {
@@ -738,18 +739,19 @@ impl CertifiedClipper {
     /// Side values of the two ends of edge `u`–`w` against plane `k`, on
     /// one scale (the fold proxy when the edge lies in a folding plane).
     fn edge_sides(&mut self, u: usize, w: usize, k: usize) -> [(f64, f64); 2] {
+        let ((xu, ru), (xw, rw)) = ((self.pos[u], self.rad[u]), (self.pos[w], self.rad[w]));
         let common = self.on[u] & self.on[w] & self.partners[k];
         if common != 0 {
-            if let Some(Some(f)) = self.fold(common.trailing_zeros() as usize, k).map(|slot| &self.folds[slot].2) {
+            if let Some(f) = self.fold(common.trailing_zeros() as usize, k) {
                 let side = |x, r| {
                     let (s, e) = f.proxy.side(x, r);
                     (s * f.sign, e)
                 };
-                return [side(self.pos[u], self.rad[u]), side(self.pos[w], self.rad[w])];
+                return [side(xu, ru), side(xw, rw)];
             }
         }
         let p = &self.planes[k];
-        [p.side(self.pos[u], self.rad[u]), p.side(self.pos[w], self.rad[w])]
+        [p.side(xu, ru), p.side(xw, rw)]
     }
 
     /// Makes the vertex where edge `u` (inside) – `w` (outside) crosses
@@ -1140,6 +1142,12 @@ impl CertifiedClipper {
     /// the chain does not close.
     fn face_cycle(&self, p: usize, members: &[u8], cycle: &mut [u16]) -> Option<()> {
         let m = members.len();
+        // NOTE: each edge of a face lies on a different other plane, so a
+        // face has fewer vertices than there are planes (and `placed` holds
+        // them all); more means the incidences are broken.
+        if m >= MAX_FAST_PLANES {
+            return None;
+        }
         // Two members are adjacent when they share a plane besides p.
         let others = !(1u64 << p);
         // Positions in `members` already placed; each step takes a neighbour

@@ -259,19 +259,25 @@ fn a_scene_face_in_a_frustum_face_plane_adds_no_edges() {
     for max in [3.0, -0.5] {
         let scene = Aabb::new(DVec3::new(-5.0, -5.0, -8.0), DVec3::new(5.0, 5.0, max)).unwrap();
         let body = focus_body(&view, &light, &scene).unwrap();
-        let mut reference = Body::new();
-        shadowfocus_geom::focus_body_exact_into(&mut reference, &view, &light, &scene).unwrap();
-        assert!(body.stats().float_path, "the float path declined: {body:?}");
         assert_eq!(body.dimension(), Dimension::Solid);
-        assert_eq!(body.vertices().len(), reference.vertices().len(), "{body:?}\n{reference:?}");
-        let sizes = |b: &Body| {
-            let mut s: Vec<usize> = b.faces().map(|f| f.len()).collect();
-            s.sort();
-            s
-        };
-        assert_eq!(sizes(&body), sizes(&reference), "{body:?}\n{reference:?}");
-        assert!((body.volume() - reference.volume()).abs() <= 1e-12 * reference.volume());
+        assert_float_path_matches_exact_engine(&body, &view, &light, &scene);
     }
+}
+
+/// The float path answered, with the exact engine's vertex count, face sizes
+/// and volume.
+fn assert_float_path_matches_exact_engine(body: &Body, view: &Frustum, light: &Light, scene: &Aabb) {
+    let mut reference = Body::new();
+    shadowfocus_geom::focus_body_exact_into(&mut reference, view, light, scene).unwrap();
+    assert!(body.stats().float_path, "the float path declined: {body:?}");
+    assert_eq!(body.vertices().len(), reference.vertices().len(), "{body:?}\n{reference:?}");
+    let sizes = |b: &Body| {
+        let mut s: Vec<usize> = b.faces().map(|f| f.len()).collect();
+        s.sort();
+        s
+    };
+    assert_eq!(sizes(body), sizes(&reference), "{body:?}\n{reference:?}");
+    assert!((body.volume() - reference.volume()).abs() <= 1e-12 * reference.volume());
 }
 
 /// Faces of S and L that the body's bounding box lies strictly inside of are
@@ -281,19 +287,6 @@ fn a_scene_face_in_a_frustum_face_plane_adds_no_edges() {
 #[test]
 fn faces_the_body_clears_are_skipped_without_changing_it() {
     let view = simple_view();
-    let sizes = |b: &Body| {
-        let mut s: Vec<usize> = b.faces().map(|f| f.len()).collect();
-        s.sort();
-        s
-    };
-    let same_as_exact = |body: &Body, light: &Light, scene: &Aabb| {
-        let mut reference = Body::new();
-        shadowfocus_geom::focus_body_exact_into(&mut reference, &view, light, scene).unwrap();
-        assert!(body.stats().float_path, "the float path declined: {body:?}");
-        assert_eq!(body.vertices().len(), reference.vertices().len(), "{body:?}\n{reference:?}");
-        assert_eq!(sizes(body), sizes(&reference), "{body:?}\n{reference:?}");
-        assert!((body.volume() - reference.volume()).abs() <= 1e-12 * reference.volume());
-    };
     // A sun high above (the light enters through S's top face, which closes
     // the hull): S's faces at x = ±100, y = −100 and z = 50 clear the swept
     // frustum; z = −5 cuts it.
@@ -301,7 +294,7 @@ fn faces_the_body_clears_are_skipped_without_changing_it() {
     let scene = Aabb::new(DVec3::new(-100.0, -100.0, -5.0), DVec3::new(100.0, 100.0, 50.0)).unwrap();
     let body = focus_body(&view, &sun, &scene).unwrap();
     assert_eq!((body.stats().planes_cleared, body.stats().planes_cut), (4, 1), "{:?}", body.stats());
-    same_as_exact(&body, &sun, &scene);
+    assert_float_path_matches_exact_engine(&body, &view, &sun, &scene);
 
     // A spot light above V whose frustum holds all of hull(V ∪ {l}) ∩ S: its
     // four side faces and its far face clear the body; its near face (the
@@ -316,5 +309,5 @@ fn faces_the_body_clears_are_skipped_without_changing_it() {
     let spot = Light::spot(apex, Frustum::from_corners(corners).unwrap()).unwrap();
     let body = focus_body(&view, &spot, &scene).unwrap();
     assert!(body.stats().planes_cleared >= 5, "{:?}", body.stats());
-    same_as_exact(&body, &spot, &scene);
+    assert_float_path_matches_exact_engine(&body, &view, &spot, &scene);
 }
