@@ -131,6 +131,12 @@ fn measure(renderer: &mut Renderer, scene: &Scene, o: &FitOptions, size: (u32, u
         focusing_us,
         render_ms: m.render_ms,
         shadow_pass_ms: m.shadow_pass_ms,
+        gpu_render_ms: match (m.shadow_gpu_ms, m.main_gpu_ms) {
+            (Some(s), Some(main)) => s + main,
+            (None, Some(main)) if active == 0 => main,
+            _ => f64::NAN,
+        },
+        gpu_shadow_ms: m.shadow_gpu_ms.unwrap_or(if active == 0 { 0.0 } else { f64::NAN }),
         backend: format!("{} / {}", m.adapter.name, m.adapter.backend),
         maps_active: active,
         maps_skipped: fitted.saturating_sub(active),

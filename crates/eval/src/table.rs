@@ -21,6 +21,10 @@ pub struct Row {
     /// Shadow + main pass, ms (see `backend`).
     pub render_ms: f64,
     pub shadow_pass_ms: f64,
+    /// The same two figures timed by the GPU (timestamp queries); NaN where
+    /// the adapter has no timestamps.
+    pub gpu_render_ms: f64,
+    pub gpu_shadow_ms: f64,
     /// Adapter name and backend, e.g. `llvmpipe (LLVM 15.0.6) / gl`.
     pub backend: String,
     pub maps_active: usize,
@@ -40,7 +44,7 @@ pub struct Row {
     pub ratio: f64,
 }
 
-const COLUMNS: &str = "scene,config,method,splits,scheme,resolution,plan,focusing_us,render_ms,shadow_pass_ms,backend,maps_active,maps_skipped,texture_bytes,casters_drawn,casters_total,aliasing_max,aliasing_p95,aliasing_mean,mismatch_rate,mismatch_off_edges,bound,ratio";
+const COLUMNS: &str = "scene,config,method,splits,scheme,resolution,plan,focusing_us,render_ms,shadow_pass_ms,gpu_render_ms,gpu_shadow_ms,backend,maps_active,maps_skipped,texture_bytes,casters_drawn,casters_total,aliasing_max,aliasing_p95,aliasing_mean,mismatch_rate,mismatch_off_edges,bound,ratio";
 
 fn csv_field(s: &str) -> String {
     if s.contains([',', '"', '\n']) {
@@ -66,6 +70,8 @@ pub fn to_csv(rows: &[Row]) -> String {
             format!("{:.3}", r.focusing_us),
             format!("{:.3}", r.render_ms),
             format!("{:.3}", r.shadow_pass_ms),
+            format!("{:.3}", r.gpu_render_ms),
+            format!("{:.3}", r.gpu_shadow_ms),
             csv_field(&r.backend),
             r.maps_active.to_string(),
             r.maps_skipped.to_string(),

@@ -61,6 +61,8 @@ pub struct AdapterSummary {
     pub driver: String,
     /// Whether casters in front of a map's near plane can be clamped instead of clipped.
     pub depth_clamp: bool,
+    /// Whether the GPU times its passes itself (timestamp queries).
+    pub timestamps: bool,
 }
 
 /// An open device plus an error sink: wgpu errors become `RenderError`s instead of panics.
@@ -132,11 +134,12 @@ impl Gpu {
         let depth_clamp = adapter
             .features()
             .contains(wgpu::Features::DEPTH_CLIP_CONTROL);
-        let features = if depth_clamp {
-            wgpu::Features::DEPTH_CLIP_CONTROL
-        } else {
-            wgpu::Features::empty()
-        };
+        let timestamps = adapter
+            .features()
+            .contains(wgpu::Features::TIMESTAMP_QUERY);
+        let mut features = wgpu::Features::empty();
+        features.set(wgpu::Features::DEPTH_CLIP_CONTROL, depth_clamp);
+        features.set(wgpu::Features::TIMESTAMP_QUERY, timestamps);
         let (device, queue) = block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("shadowfocus"),
             required_features: features,
@@ -161,6 +164,7 @@ impl Gpu {
                 .trim()
                 .to_string(),
             depth_clamp,
+            timestamps,
         };
         Ok(Gpu {
             device,

@@ -27,6 +27,7 @@ mod output;
 mod renderer;
 mod scene;
 mod scenes;
+mod timer;
 pub mod testfit;
 mod types;
 

@@ -61,6 +61,8 @@ pub struct CasterStats {
 pub(crate) struct Timings {
     pub shadow_ms: f64,
     pub main_ms: f64,
+    pub shadow_gpu_ms: Option<f64>,
+    pub main_gpu_ms: Option<f64>,
     pub readback_ms: f64,
     pub ground_truth_ms: f64,
 }
@@ -80,6 +82,11 @@ pub struct RenderMetrics {
     pub render_ms: f64,
     pub shadow_pass_ms: f64,
     pub main_pass_ms: f64,
+    /// The same phases timed by the GPU itself (timestamp queries, fastest
+    /// of `timing_repeats`), where the adapter has them: no submission or
+    /// fence wait in them.
+    pub shadow_gpu_ms: Option<f64>,
+    pub main_gpu_ms: Option<f64>,
     pub readback_ms: f64,
     pub ground_truth_ms: f64,
     pub aliasing: AliasingStats,
@@ -336,6 +343,8 @@ pub(crate) fn compute(
         render_ms: t.shadow_ms + t.main_ms,
         shadow_pass_ms: t.shadow_ms,
         main_pass_ms: t.main_ms,
+        shadow_gpu_ms: t.shadow_gpu_ms,
+        main_gpu_ms: t.main_gpu_ms,
         readback_ms: t.readback_ms,
         ground_truth_ms: t.ground_truth_ms,
         aliasing: aliasing_stats(req, out),

@@ -344,6 +344,35 @@ fn filtering_blending_blur_and_linear_depth_keep_shadows_correct() {
 }
 
 #[test]
+fn gpu_phase_times_lie_within_the_wall_clock_times() {
+    let scene = builtin_scene("chessboard").unwrap();
+    let maps =
+        [testfit::scene_box_map(&scene, &scene.camera, &scene.light, aspect(128, 72)).unwrap()];
+    let mut req = RenderRequest::new(&scene, &maps);
+    small(&mut req, 128, 72, 512);
+    req.settings.timing_repeats = 2;
+    let Some(out) = render(&req) else { return };
+    let m = &out.metrics;
+    let phases = [
+        ("shadow", m.shadow_gpu_ms, m.shadow_pass_ms),
+        ("main", m.main_gpu_ms, m.main_pass_ms),
+    ];
+    for (phase, gpu, wall) in phases {
+        if !m.adapter.timestamps {
+            assert_eq!(gpu, None, "{phase}: a GPU time without timestamp queries");
+            continue;
+        }
+        let gpu = gpu.unwrap_or_else(|| panic!("{phase}: no GPU time on {:?}", m.adapter));
+        // The GPU's work lies between the submission and the fence; the
+        // slack covers converting its ticks to milliseconds.
+        assert!(
+            gpu > 0.0 && gpu <= wall * 1.01 + 0.05,
+            "{phase}: GPU {gpu} ms against wall clock {wall} ms"
+        );
+    }
+}
+
+#[test]
 fn outputs_are_written_as_png_and_json() {
     let scene = builtin_scene("inverted").unwrap();
     let maps =
