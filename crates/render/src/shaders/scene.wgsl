@@ -69,6 +69,21 @@ fn compare_tap(i: u32, uv: vec2<f32>, r: f32) -> f32 {
     return textureSampleCompareLevel(shadow_tex, cmp, uv, i, r);
 }
 
+// A bound on the rounding of a receiver's projective depth: z = c.z / c.w is evaluated in f32
+// here and, for the same surface, rasterised from f32 vertex positions in the shadow pass.
+// NOTE: each clip coordinate is a 4-term f32 dot product, off by at most a few ulps of
+// Σ|m_rj||p_j| (not of its value, which cancels near the map's near plane); z/w inherits
+// (e_z + |z| e_w) / w. Float depth buffers make the constant depth bias vanish at z ≈ 0, and the
+// slope bias vanishes on surfaces facing the light, so without this a receiver on the near plane
+// facing the light would shadow itself wherever the two roundings differ.
+fn depth_rounding(m: mat4x4<f32>, p: vec3<f32>, c: vec4<f32>) -> f32 {
+    let ap = vec4<f32>(abs(p), 1.0);
+    let ez = dot(abs(vec4<f32>(m[0].z, m[1].z, m[2].z, m[3].z)), ap);
+    let ew = dot(abs(vec4<f32>(m[0].w, m[1].w, m[2].w, m[3].w)), ap);
+    let u = 5.9604645e-8;
+    return 8.0 * u * (ez + abs(c.z / c.w) * ew) / c.w;
+}
+
 // Fraction of the light reaching p according to map i (1 = lit).
 fn shadow_lookup(i: u32, p: vec3<f32>) -> f32 {
     let c = f.maps[i].world_to_clip * vec4<f32>(p, 1.0);
@@ -84,6 +99,7 @@ fn shadow_lookup(i: u32, p: vec3<f32>) -> f32 {
         if (f.maps[i].split.z > 0.5) {
             r = 1.0 - r;
         }
+        r = r - depth_rounding(f.maps[i].world_to_clip, p, c);
     }
     if (u32(f.params.z) < 2u) {
         return compare_tap(i, uv, r);
