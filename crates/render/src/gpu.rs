@@ -134,9 +134,7 @@ impl Gpu {
         let depth_clamp = adapter
             .features()
             .contains(wgpu::Features::DEPTH_CLIP_CONTROL);
-        let timestamps = adapter
-            .features()
-            .contains(wgpu::Features::TIMESTAMP_QUERY);
+        let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
         let mut features = wgpu::Features::empty();
         features.set(wgpu::Features::DEPTH_CLIP_CONTROL, depth_clamp);
         features.set(wgpu::Features::TIMESTAMP_QUERY, timestamps);

@@ -27,8 +27,8 @@ mod output;
 mod renderer;
 mod scene;
 mod scenes;
-mod timer;
 pub mod testfit;
+mod timer;
 mod types;
 
 pub use error::RenderError;

@@ -8,11 +8,11 @@ use wgpu::util::DeviceExt;
 
 use crate::error::RenderError;
 use crate::gpu::{AdapterSummary, BackendChoice, Gpu};
-use crate::timer::{PhaseTimer, MAIN_PHASE, SHADOW_PHASE};
 use crate::ground_truth::Visibility;
 use crate::image::Image;
 use crate::metrics::{self, RenderMetrics};
 use crate::scene::{Scene, Vertex};
+use crate::timer::{PhaseTimer, MAIN_PHASE, SHADOW_PHASE};
 use crate::types::{
     validate_maps, CameraSpec, DepthMode, DepthTest, LightSpec, Pcf, RenderSettings, ShadowMapSpec,
     MAX_MAPS,

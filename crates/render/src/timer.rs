@@ -100,7 +100,11 @@ impl PhaseTimer {
         match mapped {
             Some(Ok(())) => {}
             Some(Err(e)) => return Err(RenderError::Gpu(format!("mapping timestamps: {e}"))),
-            None => return Err(RenderError::Gpu("the timestamp buffer was never mapped".into())),
+            None => {
+                return Err(RenderError::Gpu(
+                    "the timestamp buffer was never mapped".into(),
+                ))
+            }
         }
         let ticks: Vec<u64> = {
             let range = self
