@@ -198,6 +198,10 @@ mod tests {
         let line = csv.lines().nth(1).unwrap();
         assert!(line.starts_with("\"a,b\","), "{line}");
         assert!(line.contains("\"x \"\"y\"\"\""), "{line}");
-        assert_eq!(csv.lines().next().unwrap().split(',').count(), 23);
+        assert_eq!(csv.lines().next().unwrap().split(',').count(), 25);
+        // Every row has one cell per column.
+        let plain = to_csv(&[Row::default()]);
+        let mut lines = plain.lines();
+        assert_eq!(lines.next().unwrap().split(',').count(), lines.next().unwrap().split(',').count());
     }
 }
