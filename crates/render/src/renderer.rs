@@ -1355,9 +1355,10 @@ impl Renderer {
     }
 }
 
-/// Texture → buffer copies with 256-byte row alignment, mapped together.
+/// Texture → buffer copies with 256-byte row alignment (and plain buffer
+/// copies), mapped together.
 #[derive(Default)]
-struct Readback {
+pub(crate) struct Readback {
     items: Vec<(wgpu::Buffer, u32, u32, u32)>, // buffer, padded row bytes, row bytes, rows
 }
 
@@ -1411,7 +1412,26 @@ impl Readback {
         self.items.len() - 1
     }
 
-    fn finish(self, gpu: &Gpu) -> Result<Vec<Vec<u8>>, RenderError> {
+    /// Copies the first `size` bytes of `src` (a `COPY_SRC` buffer).
+    pub(crate) fn add_buffer(
+        &mut self,
+        device: &wgpu::Device,
+        enc: &mut wgpu::CommandEncoder,
+        src: &wgpu::Buffer,
+        size: u32,
+    ) -> usize {
+        let buf = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("read-back"),
+            size: size as u64,
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+        enc.copy_buffer_to_buffer(src, 0, &buf, 0, size as u64);
+        self.items.push((buf, size, size, 1));
+        self.items.len() - 1
+    }
+
+    pub(crate) fn finish(self, gpu: &Gpu) -> Result<Vec<Vec<u8>>, RenderError> {
         type MapStatus = Option<Result<(), wgpu::BufferAsyncError>>;
         let status: std::sync::Arc<std::sync::Mutex<Vec<MapStatus>>> =
             std::sync::Arc::new(std::sync::Mutex::new(vec![None; self.items.len()]));

@@ -5,22 +5,20 @@
 //! phase's first pass and at the end of its last pass give the GPU's own
 //! time for the phase.
 
-use std::sync::{Arc, Mutex};
-
 use crate::error::RenderError;
 use crate::gpu::Gpu;
+use crate::renderer::Readback;
 
 /// First query slot of the shadow phase (start, end).
 pub(crate) const SHADOW_PHASE: u32 = 0;
 /// First query slot of the main phase (start, end).
 pub(crate) const MAIN_PHASE: u32 = 2;
 const SLOTS: u32 = 4;
-const BYTES: u64 = SLOTS as u64 * wgpu::QUERY_SIZE as u64;
+const BYTES: u32 = SLOTS * wgpu::QUERY_SIZE;
 
 pub(crate) struct PhaseTimer {
     set: wgpu::QuerySet,
     resolved: wgpu::Buffer,
-    staging: wgpu::Buffer,
     /// Nanoseconds per timestamp tick.
     period_ns: f64,
 }
@@ -37,18 +35,15 @@ impl PhaseTimer {
             ty: wgpu::QueryType::Timestamp,
             count: SLOTS,
         });
-        let buffer = |usage| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("phase times"),
-                size: BYTES,
-                usage,
-                mapped_at_creation: false,
-            })
-        };
+        let resolved = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("phase times"),
+            size: BYTES as u64,
+            usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
         Some(PhaseTimer {
             set,
-            resolved: buffer(wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC),
-            staging: buffer(wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ),
+            resolved,
             period_ns: gpu.queue.get_timestamp_period() as f64,
         })
     }
@@ -81,39 +76,10 @@ impl PhaseTimer {
                 label: Some("phase times"),
             });
         enc.resolve_query_set(&self.set, 0..SLOTS, &self.resolved, 0);
-        enc.copy_buffer_to_buffer(&self.resolved, 0, &self.staging, 0, BYTES);
+        let mut rb = Readback::default();
+        let slot = rb.add_buffer(&gpu.device, &mut enc, &self.resolved, BYTES);
         gpu.queue.submit([enc.finish()]);
-        let status: Arc<Mutex<Option<Result<(), wgpu::BufferAsyncError>>>> = Arc::default();
-        let sink = status.clone();
-        self.staging
-            .slice(..)
-            .map_async(wgpu::MapMode::Read, move |r| {
-                if let Ok(mut s) = sink.lock() {
-                    *s = Some(r);
-                }
-            });
-        gpu.wait()?;
-        let mapped = status
-            .lock()
-            .map_err(|_| RenderError::Gpu("timestamp map status poisoned".into()))?
-            .take();
-        match mapped {
-            Some(Ok(())) => {}
-            Some(Err(e)) => return Err(RenderError::Gpu(format!("mapping timestamps: {e}"))),
-            None => {
-                return Err(RenderError::Gpu(
-                    "the timestamp buffer was never mapped".into(),
-                ))
-            }
-        }
-        let ticks: Vec<u64> = {
-            let range = self
-                .staging
-                .get_mapped_range(..)
-                .map_err(|e| RenderError::Gpu(format!("timestamp range: {e:?}")))?;
-            bytemuck::pod_collect_to_vec::<u8, u64>(&range)
-        };
-        self.staging.unmap();
+        let ticks: Vec<u64> = bytemuck::pod_collect_to_vec(&rb.finish(gpu)?[slot]);
         let ms = |phase: usize| {
             let (start, end) = (ticks[phase], ticks[phase + 1]);
             (end > start).then(|| (end - start) as f64 * self.period_ns * 1e-6)

@@ -612,7 +612,10 @@ fn a_receiver_facing_the_light_on_the_maps_near_plane_does_not_shadow_itself() {
         small(&mut req, 160, 90, 1024);
         if let Some(out) = render(&req) {
             let m = out.metrics.mismatch.unwrap();
-            assert!(m.off_edge_mismatched * 1000 < m.off_edge_pixels, "{offset:?}: {m:?}");
+            assert!(
+                m.off_edge_mismatched * 1000 < m.off_edge_pixels,
+                "{offset:?}: {m:?}"
+            );
         }
         std::fs::remove_dir_all(&dir).ok();
     }

@@ -76,12 +76,12 @@ fn compare_tap(i: u32, uv: vec2<f32>, r: f32) -> f32 {
 // (e_z + |z| e_w) / w. Float depth buffers make the constant depth bias vanish at z ≈ 0, and the
 // slope bias vanishes on surfaces facing the light, so without this a receiver on the near plane
 // facing the light would shadow itself wherever the two roundings differ.
-fn depth_rounding(m: mat4x4<f32>, p: vec3<f32>, c: vec4<f32>) -> f32 {
+fn depth_rounding(m: mat4x4<f32>, p: vec3<f32>, z: f32, w: f32) -> f32 {
     let ap = vec4<f32>(abs(p), 1.0);
     let ez = dot(abs(vec4<f32>(m[0].z, m[1].z, m[2].z, m[3].z)), ap);
     let ew = dot(abs(vec4<f32>(m[0].w, m[1].w, m[2].w, m[3].w)), ap);
     let u = 5.9604645e-8;
-    return 8.0 * u * (ez + abs(c.z / c.w) * ew) / c.w;
+    return 8.0 * u * (ez + abs(z) * ew) / w;
 }
 
 // Fraction of the light reaching p according to map i (1 = lit).
@@ -99,7 +99,7 @@ fn shadow_lookup(i: u32, p: vec3<f32>) -> f32 {
         if (f.maps[i].split.z > 0.5) {
             r = 1.0 - r;
         }
-        r = r - depth_rounding(f.maps[i].world_to_clip, p, c);
+        r = r - depth_rounding(f.maps[i].world_to_clip, p, ndc.z, c.w);
     }
     if (u32(f.params.z) < 2u) {
         return compare_tap(i, uv, r);
