@@ -88,52 +88,10 @@ pub(crate) fn central_projection(
     // it marginal. A light at infinity travels the same way everywhere.
     let a = if lw == 0.0 {
         -l.normalize()
+    } else if pts.len() <= SMALL_BODY {
+        travel_axis::<SMALL_BODY>(pts, travel, tc, axis_hint)?
     } else {
-        let mut units = [DVec3::ZERO; MAX_VERTICES];
-        let units = &mut units[..pts.len().min(MAX_VERTICES)];
-        for (u, p) in units.iter_mut().zip(pts) {
-            let t = travel(*p);
-            let len = t.length();
-            if !(len > 0.0) {
-                return None; // the light is a vertex of the body
-            }
-            *u = t / len;
-        }
-        let min_dot = |a: DVec3| -> (f64, DVec3) {
-            let mut worst = (f64::INFINITY, DVec3::ZERO);
-            for u in units.iter() {
-                let d = a.dot(*u);
-                if d < worst.0 {
-                    worst = (d, *u);
-                }
-            }
-            worst
-        };
-        let mut a = cone_axis(units.len(), |i| units[i]).unwrap_or(tc);
-        let mut ok = min_dot(a).0 > 0.0;
-        if !ok {
-            if let Some(hint) = axis_hint {
-                let hint = hint.normalize_or_zero();
-                if hint != DVec3::ZERO && min_dot(hint).0 > 0.0 {
-                    a = hint;
-                    ok = true;
-                }
-            }
-        }
-        let mut iter = 0;
-        while !ok && iter < 16 {
-            let (_, u) = min_dot(a);
-            a = (a + u).normalize_or_zero();
-            if a == DVec3::ZERO {
-                return None;
-            }
-            ok = min_dot(a).0 > 0.0;
-            iter += 1;
-        }
-        if !ok {
-            return None;
-        }
-        a
+        travel_axis::<MAX_VERTICES>(pts, travel, tc, axis_hint)?
     };
 
     let (ex, ey) = tangent_frame(tc, v, w);
@@ -157,6 +115,62 @@ pub(crate) fn central_projection(
         }
     };
     Some(Central { m: from_rows(rx, ry, rz, rw), centre: c })
+}
+
+/// Bodies up to this many vertices take a small scratch array in
+/// [`travel_axis`].
+const SMALL_BODY: usize = 32;
+
+/// The projection axis of a finite light: a direction with a positive dot
+/// product with the unit travel direction at every point (see
+/// `central_projection`), `None` when there is none.
+///
+/// NOTE: generic over the scratch size so that a typical body (≤ 32
+/// vertices) zeroes 768 bytes instead of a full `MAX_VERTICES` array (3 KiB,
+/// which cost more than the axis itself).
+fn travel_axis<const N: usize>(pts: &[DVec3], travel: impl Fn(DVec3) -> DVec3, tc: DVec3, axis_hint: Option<DVec3>) -> Option<DVec3> {
+    let mut units = [DVec3::ZERO; N];
+    let units = &mut units[..pts.len().min(N)];
+    for (u, p) in units.iter_mut().zip(pts) {
+        let t = travel(*p);
+        let len = t.length();
+        if !(len > 0.0) {
+            return None; // the light is a vertex of the body
+        }
+        *u = t / len;
+    }
+    let min_dot = |a: DVec3| -> (f64, DVec3) {
+        let mut worst = (f64::INFINITY, DVec3::ZERO);
+        for u in units.iter() {
+            let d = a.dot(*u);
+            if d < worst.0 {
+                worst = (d, *u);
+            }
+        }
+        worst
+    };
+    let mut a = cone_axis(units.len(), |i| units[i]).unwrap_or(tc);
+    let mut ok = min_dot(a).0 > 0.0;
+    if !ok {
+        if let Some(hint) = axis_hint {
+            let hint = hint.normalize_or_zero();
+            if hint != DVec3::ZERO && min_dot(hint).0 > 0.0 {
+                a = hint;
+                ok = true;
+            }
+        }
+    }
+    let mut iter = 0;
+    while !ok && iter < 16 {
+        let (_, u) = min_dot(a);
+        a = (a + u).normalize_or_zero();
+        if a == DVec3::ZERO {
+            return None;
+        }
+        ok = min_dot(a).0 > 0.0;
+        iter += 1;
+    }
+    ok.then_some(a)
 }
 
 /// The LiSPSM/TSM warp in the image plane: a perspective along the image

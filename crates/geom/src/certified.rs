@@ -53,9 +53,16 @@ const FLOOR: f64 = 1e-280;
 /// Hull of a frustum with a point (≤ 24) + closing plane + box (6) + light
 /// frustum (≤ 12).
 const MAX_FAST_PLANES: usize = 48;
-const CAP_V: usize = MAX_VERTICES;
-// Vertex sets are `u128` bit sets.
-const _: () = assert!(CAP_V <= 128);
+/// Vertex slots of the fast path.
+///
+/// NOTE: vertex sets are `u64` bit sets. A body that would need more slots
+/// (over 64 vertices at once: possible only with many planes of `L`) goes to
+/// the exact engine; `u128` sets cost several instructions per variable
+/// shift, on every cut and every face, for bodies that never need them.
+const CAP_V: usize = 64;
+const _: () = assert!(CAP_V <= 64 && CAP_V <= MAX_VERTICES);
+/// A set of vertex slots.
+type VertexSet = u64;
 const NONE: u8 = u8::MAX;
 /// Plane pairs whose fold proxy is remembered per body.
 const FOLD_CACHE: usize = 8;
@@ -300,8 +307,17 @@ pub(crate) struct CertifiedClipper {
     n_verts: usize,
     magnitude: f64,
     sign: [i8; CAP_V],
-    /// Fold proxies by plane pair `(i, k)`, failures included (`None`).
-    folds: [(u8, u8, Option<Fold>); FOLD_CACHE],
+    /// `cut`'s scratch: per plane, the inside vertices on it (a vertex set).
+    inside_on: [VertexSet; MAX_FAST_PLANES],
+    /// `write`'s scratch: per plane, the vertices on it (a vertex set).
+    plane_members: [VertexSet; MAX_FAST_PLANES],
+    /// Plane pairs `(i, k)` whose fold proxy is in `fold_proxies` (same
+    /// slot), failures included (`None`).
+    ///
+    /// NOTE: the keys live apart from the proxies so that a new body resets
+    /// 16 bytes, not eight ~250-byte proxies.
+    fold_keys: [(u8, u8); FOLD_CACHE],
+    fold_proxies: [Option<Fold>; FOLD_CACHE],
     /// Planes that cut.
     pub cuts: u16,
     /// Planes of S and L not clipped: the body's bounding box clears them.
@@ -339,7 +355,10 @@ impl CertifiedClipper {
             n_verts: 0,
             magnitude: 0.0,
             sign: [0; CAP_V],
-            folds: [(NONE, NONE, None); FOLD_CACHE],
+            inside_on: [0; MAX_FAST_PLANES],
+            plane_members: [0; MAX_FAST_PLANES],
+            fold_keys: [(NONE, NONE); FOLD_CACHE],
+            fold_proxies: [None; FOLD_CACHE],
             cuts: 0,
             cleared: 0,
             closed_by_scene_face: None,
@@ -366,7 +385,7 @@ impl CertifiedClipper {
         self.cuts = 0;
         self.cleared = 0;
         self.closed_by_scene_face = None;
-        self.folds = [(NONE, NONE, None); FOLD_CACHE];
+        self.fold_keys = [(NONE, NONE); FOLD_CACHE];
         // NOTE: beneath–beyond takes the frustum's faces as the hull's; when
         // faces are coplanar the hull's faces differ (merged, with corners
         // inside them), so such frusta go to the exact engine.
@@ -705,16 +724,17 @@ impl CertifiedClipper {
     /// `None` when the pair has no proxy.
     fn fold(&mut self, i: usize, k: usize) -> Option<&Fold> {
         let key = (i as u8, k as u8);
-        let slot = match self.folds.iter().position(|e| (e.0, e.1) == key) {
+        let slot = match self.fold_keys.iter().position(|&e| e == key) {
             Some(slot) => slot,
             None => {
                 let f = self.make_fold(i, k, self.planes[i].through & self.planes[k].through);
-                let slot = self.folds.iter().position(|e| e.0 == NONE).unwrap_or(k % FOLD_CACHE);
-                self.folds[slot] = (key.0, key.1, f);
+                let slot = self.fold_keys.iter().position(|e| e.0 == NONE).unwrap_or(k % FOLD_CACHE);
+                self.fold_keys[slot] = key;
+                self.fold_proxies[slot] = f;
                 slot
             }
         };
-        self.folds[slot].2.as_ref()
+        self.fold_proxies[slot].as_ref()
     }
 
     fn make_fold(&self, i: usize, k: usize, common: u32) -> Option<Fold> {
@@ -957,7 +977,10 @@ impl CertifiedClipper {
         let mut on_k = 0;
         // Inside vertices on each plane, as sets of vertex slots; an outside
         // vertex's inside neighbours are those in two of its planes' sets.
-        let mut inside_on = [0u128; MAX_FAST_PLANES];
+        // NOTE: only the planes so far are cleared (the set is kept in the
+        // clipper): clearing all of it was a 768-byte memset per cut.
+        let inside_on = &mut self.inside_on[..=k];
+        inside_on.fill(0);
         for v in 0..old_n {
             match self.sign[v] {
                 s if s < 0 => {
@@ -977,10 +1000,10 @@ impl CertifiedClipper {
         }
         let mut n_new = old_n;
         for &w in &outside[..n_out] {
-            let (mut once, mut twice) = (0u128, 0u128);
+            let (mut once, mut twice): (VertexSet, VertexSet) = (0, 0);
             for i in bits(self.on[w as usize]) {
-                twice |= once & inside_on[i];
-                once |= inside_on[i];
+                twice |= once & self.inside_on[i];
+                once |= self.inside_on[i];
             }
             while twice != 0 {
                 let u = twice.trailing_zeros() as usize;
@@ -1028,7 +1051,7 @@ impl CertifiedClipper {
     /// Writes the solid into `out`; false (and `out` left empty) when a
     /// vertex's proven error exceeds the output tolerance, the faces do not
     /// chain into a closed surface, or a face's orientation is not proven.
-    pub(crate) fn write(&self, out: &mut Body) -> bool {
+    pub(crate) fn write(&mut self, out: &mut Body) -> bool {
         let tol = ROUNDING_ULPS * f64::EPSILON;
         for v in 0..self.n_verts {
             let (x, r) = (self.pos[v], self.rad[v]);
@@ -1037,39 +1060,27 @@ impl CertifiedClipper {
                 return false;
             }
         }
-        // Each plane's vertices, in one flat list grouped by plane; planes
-        // with three or more carry a face.
-        let mut count = [0u16; MAX_FAST_PLANES + 1];
+        // Each plane's vertices as a vertex set; planes with three or more
+        // carry a face.
+        let np = self.n_planes;
+        let members = &mut self.plane_members[..np];
+        members.fill(0);
+        let mut count = [0u8; MAX_FAST_PLANES];
         for v in 0..self.n_verts {
             for p in bits(self.on[v]) {
-                count[p + 1] += 1;
-            }
-        }
-        for p in 0..MAX_FAST_PLANES {
-            count[p + 1] += count[p];
-        }
-        let total = count[MAX_FAST_PLANES] as usize;
-        let mut members = [0u8; MAX_FACE_INDICES];
-        if total > members.len() {
-            return false;
-        }
-        let mut fill = count;
-        for v in 0..self.n_verts {
-            for p in bits(self.on[v]) {
-                members[fill[p] as usize] = v as u8;
-                fill[p] += 1;
+                members[p] |= 1 << v;
+                count[p] += 1;
             }
         }
         out.clear();
         let (mut ni, mut nf) = (0, 0);
         let mut face_of_plane = [NONE; MAX_FAST_PLANES];
-        for p in 0..self.n_planes {
-            let list = &members[count[p] as usize..count[p + 1] as usize];
-            let m = list.len();
+        for p in 0..np {
+            let m = count[p] as usize;
             if m < 3 {
                 continue;
             }
-            if ni + m > MAX_FACE_INDICES || self.face_cycle(p, list, &mut out.idx[ni..ni + m]).is_none() {
+            if ni + m > MAX_FACE_INDICES || self.face_cycle(p, m, &mut out.idx[ni..ni + m]).is_none() {
                 return false;
             }
             let cycle = &out.idx[ni..ni + m];
@@ -1137,35 +1148,44 @@ impl CertifiedClipper {
         })
     }
 
-    /// Writes the vertices of plane `p`'s face into `cycle`, chained through
-    /// the edges (pairs on two common planes) in either direction; `None` when
-    /// the chain does not close.
-    fn face_cycle(&self, p: usize, members: &[u8], cycle: &mut [u16]) -> Option<()> {
-        let m = members.len();
+    /// Writes the `m` vertices of plane `p`'s face into `cycle`, chained
+    /// through the edges (pairs on two common planes) in either direction;
+    /// `None` when the chain does not close. Needs `plane_members`.
+    fn face_cycle(&self, p: usize, m: usize, cycle: &mut [u16]) -> Option<()> {
         // NOTE: each edge of a face lies on a different other plane, so a
-        // face has fewer vertices than there are planes (and `placed` holds
-        // them all); more means the incidences are broken.
+        // face has fewer vertices than there are planes; more means the
+        // incidences are broken.
         if m >= MAX_FAST_PLANES {
             return None;
         }
-        // Two members are adjacent when they share a plane besides p.
+        let face = self.plane_members[p];
         let others = !(1u64 << p);
-        // Positions in `members` already placed; each step takes a neighbour
-        // of the current vertex other than the one it came from.
-        let (mut prev, mut cur) = (usize::MAX, 0);
-        let mut placed = 1u64;
-        cycle[0] = members[0] as u16;
+        // Two vertices of the face are adjacent when they share a plane
+        // besides p: the current vertex's neighbours are the face's vertices
+        // on its other planes. Each step takes the lowest one that is neither
+        // the vertex itself nor the one it came from.
+        let first = face.trailing_zeros() as usize;
+        let (mut prev, mut cur) = (first, first);
+        let mut placed: VertexSet = 1 << first;
+        cycle[0] = first as u16;
         for slot in cycle.iter_mut().take(m).skip(1) {
-            let here = self.on[members[cur] as usize] & others;
-            let next = (0..m).find(|&w| w != cur && w != prev && self.on[members[w] as usize] & here != 0)?;
+            let mut near: VertexSet = 0;
+            for q in bits(self.on[cur] & others) {
+                near |= self.plane_members[q];
+            }
+            let near = near & face & !(1 << cur) & !(1 << prev);
+            if near == 0 {
+                return None;
+            }
+            let next = near.trailing_zeros() as usize;
             if placed & 1 << next != 0 {
                 return None;
             }
             placed |= 1 << next;
-            *slot = members[next] as u16;
+            *slot = next as u16;
             (prev, cur) = (cur, next);
         }
-        if self.on[members[cur] as usize] & self.on[members[0] as usize] & others == 0 {
+        if self.on[cur] & self.on[first] & others == 0 {
             return None;
         }
         Some(())
