@@ -60,7 +60,7 @@ pub fn fit(camera: &Camera, light: &Light, scene: &Aabb, settings: &FocusSetting
             continue;
         }
         let sub = Camera { near: z0, far: z1, ..cam };
-        let view = Frustum::from_camera(&sub)?;
+        let view = Frustum::from_camera_in(&sub, &basis)?;
         let sv = SplitView { camera: &sub, basis, settings };
         match light {
             Light::Point { position } => point_maps(out, &sv, &view, position, &scene, i)?,

@@ -83,6 +83,17 @@ impl Camera {
     /// The eight frustum corners in the documented order.
     pub fn corners(&self) -> Result<[DVec3; 8], GeomError> {
         let b = self.basis()?;
+        self.corners_in(&b)
+    }
+
+    /// [`Camera::corners`] with the basis already computed by
+    /// [`Camera::basis`] for a camera with the same eye, forward, up, fovy
+    /// and aspect (the splits of one view share it); near and far are
+    /// checked here.
+    pub fn corners_in(&self, b: &CameraBasis) -> Result<[DVec3; 8], GeomError> {
+        if !(self.near > 0.0 && self.near < self.far && self.far.is_finite()) {
+            return Err(GeomError::InvalidCamera { reason: "near must be positive and smaller than a finite far" });
+        }
         let tan_half = (0.5 * self.fovy).tan();
         let mut out = [DVec3::ZERO; 8];
         for (k, t) in [self.near, self.far].into_iter().enumerate() {

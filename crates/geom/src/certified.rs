@@ -782,7 +782,10 @@ impl CertifiedClipper {
         self.on[out] = on;
         // Exact incidences: if every plane through the vertex passes through
         // one input point, the vertex is that point.
-        let pts = bits(on).fold(u32::MAX, |pts, i| pts & self.planes[i].through);
+        // NOTE: an axis plane (a face of S) passes through no input point, so
+        // a cut by one skips the loop.
+        let through_k = self.planes[k].through;
+        let pts = if through_k == 0 { 0 } else { bits(common).fold(through_k, |pts, i| pts & self.planes[i].through) };
         if pts != 0 {
             self.pos[out] = self.points[pts.trailing_zeros() as usize];
             self.rad[out] = DVec3::ZERO;

@@ -1,7 +1,7 @@
 //! Frusta as exact convex hulls of their eight corners, and their hull with
 //! a light (a finite point, or a point at infinity for directional lights).
 
-use crate::camera::Camera;
+use crate::camera::{Camera, CameraBasis};
 use crate::error::{check_finite, GeomError};
 use crate::number::{cross, diff, dot, lift, Exact, Filtered, Ring};
 use crate::plane::Plane;
@@ -254,6 +254,13 @@ impl Frustum {
     /// The frustum of a camera (see [`Camera::corners`] for the formula).
     pub fn from_camera(camera: &Camera) -> Result<Frustum, GeomError> {
         Self::with_name(camera.corners()?, "camera frustum")
+    }
+
+    /// [`Frustum::from_camera`] with the camera's basis already computed
+    /// (see [`Camera::corners_in`]): the same frustum, without recomputing
+    /// the basis for every split of one view.
+    pub fn from_camera_in(camera: &Camera, basis: &CameraBasis) -> Result<Frustum, GeomError> {
+        Self::with_name(camera.corners_in(basis)?, "camera frustum")
     }
 
     pub(crate) fn with_name(corners: [DVec3; 8], what: &'static str) -> Result<Frustum, GeomError> {

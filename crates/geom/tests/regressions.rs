@@ -1,7 +1,7 @@
 //! Regressions found by the property tests and the fuzz targets, replayed
 //! as fixed inputs so that they keep failing loudly if they come back.
 
-use shadowfocus_geom::{focus_body, focus_body_into, Aabb, Apex, Body, Dimension, DVec3, Frustum, Light, Plane, Polytope};
+use shadowfocus_geom::{focus_body, focus_body_into, Aabb, Apex, Body, Camera, Dimension, DVec3, Frustum, Light, Plane, Polytope};
 
 /// A point light 1e13 away with the scene holding both V and the light:
 /// H is the pyramid over V's far face with its apex at the light. Volume
@@ -309,5 +309,44 @@ fn faces_the_body_clears_are_skipped_without_changing_it() {
     let spot = Light::spot(apex, Frustum::from_corners(corners).unwrap()).unwrap();
     let body = focus_body(&view, &spot, &scene).unwrap();
     assert!(body.stats().planes_cleared >= 5, "{:?}", body.stats());
+    assert_float_path_matches_exact_engine(&body, &view, &spot, &scene);
+}
+
+/// A spot light whose frustum's sides are all creased (twelve faces) cuts
+/// `hull(V ∪ {l}) ∩ S` into a 42-vertex body. The float path keeps vertex
+/// sets in 64 slots; a body this rich must still fit them and agree with the
+/// exact engine (it fails if the slots run out and the case falls back).
+#[test]
+fn a_body_with_many_vertices_stays_on_the_float_path() {
+    let view = Frustum::from_camera(&Camera {
+        eye: DVec3::new(0.4682129922669358, 0.08628054349405512, 3.0),
+        forward: DVec3::new(-0.017894668484396914, 0.11510552535890395, -1.0),
+        up: DVec3::Y,
+        fovy: 1.1172327274196434,
+        aspect: 1.3135358815147984,
+        near: 0.44503044448864537,
+        far: 4.699923527976738,
+    })
+    .unwrap();
+    let corners = [
+        DVec3::new(1.0483580117438709, 0.6710081739813443, -1.3713250780315636),
+        DVec3::new(0.4375100959336477, 0.7639916523528196, -1.84007355703426),
+        DVec3::new(0.2172431620844644, 1.7689709003082126, -1.4394535205742232),
+        DVec3::new(0.699624634837466, 1.7801760431232339, -0.9752605094750428),
+        DVec3::new(10.629717682450872, -20.694746046361836, 4.146491241392994),
+        DVec3::new(-9.108692380101703, -19.64157899704856, -10.34162974017888),
+        DVec3::new(-17.015541729911977, 17.89060252539349, 3.275495060789109),
+        DVec3::new(2.7406127912072593, 16.81129285364017, 17.648894844067513),
+    ];
+    let light_frustum = Frustum::from_corners(corners).unwrap();
+    assert_eq!(light_frustum.face_count(), 12);
+    let spot = Light::spot(DVec3::new(0.7186010723925556, 1.328133716263383, -1.5124660813762065), light_frustum).unwrap();
+    let scene = Aabb::new(
+        DVec3::new(-1.0588714438021745, -1.379759842987455, -1.6610307063924088),
+        DVec3::new(1.9029556630235498, 1.9520563401994455, 1.933068521329564),
+    )
+    .unwrap();
+    let body = focus_body(&view, &spot, &scene).unwrap();
+    assert_eq!(body.vertices().len(), 42);
     assert_float_path_matches_exact_engine(&body, &view, &spot, &scene);
 }
