@@ -1202,8 +1202,11 @@ impl CertifiedClipper {
     fn reversed_by_neighbour(&self, p: usize, cycle: &[u16], out: &Body, face_of_plane: &[u8; MAX_FAST_PLANES]) -> Result<Option<bool>, ()> {
         let m = cycle.len();
         let others = !(1u64 << p);
+        // NOTE: successors by comparison, not `%`: an integer division per
+        // edge is most of this loop's latency.
+        let after = |s: usize, len: usize| if s + 1 == len { 0 } else { s + 1 };
         for s in 0..m {
-            let (a, b) = (cycle[s], cycle[(s + 1) % m]);
+            let (a, b) = (cycle[s], cycle[after(s, m)]);
             for q in bits(self.on[a as usize] & self.on[b as usize] & others) {
                 if face_of_plane[q] == NONE {
                     continue;
@@ -1211,9 +1214,9 @@ impl CertifiedClipper {
                 let g = out.face(face_of_plane[q] as usize);
                 let n = g.len();
                 let k = g.iter().position(|&v| v == a).ok_or(())?;
-                return if g[(k + 1) % n] == b {
+                return if g[after(k, n)] == b {
                     Ok(Some(true))
-                } else if g[(k + n - 1) % n] == b {
+                } else if g[if k == 0 { n - 1 } else { k - 1 }] == b {
                     Ok(Some(false))
                 } else {
                     Err(())
