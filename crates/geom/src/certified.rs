@@ -95,11 +95,7 @@ impl FloatPlane {
     fn new(src: Plane, through: u32) -> FloatPlane {
         let general = |n: DVec3, en: DVec3, anchor: DVec3, offset: f64| FloatPlane::general(src, n, en, anchor, offset, through);
         match src {
-            Plane::Axis { axis, upper, value } => {
-                let mut n = DVec3::ZERO;
-                n[axis as usize] = if upper { 1.0 } else { -1.0 };
-                FloatPlane { axis, upper, value, ..FloatPlane::general(src, n, DVec3::ZERO, DVec3::ZERO, 0.0, through) }
-            }
+            Plane::Axis { axis, upper, value } => FloatPlane { through, ..FloatPlane::axis(axis, upper, value) },
             // NOTE: a cross-product component is ã·b̃ − ã′·b̃′ over rounded
             // differences: each product is off by 2u (its two differences)
             // plus u (its rounding), the subtraction by u of the result, so
@@ -114,6 +110,13 @@ impl FloatPlane {
             }
             Plane::Coefficients { normal, offset } => general(normal, DVec3::ZERO, DVec3::ZERO, offset),
         }
+    }
+
+    /// `x[axis] ≤ value` (`upper`) or `≥ value`: exact, through no input point.
+    fn axis(axis: u8, upper: bool, value: f64) -> FloatPlane {
+        let mut n = DVec3::ZERO;
+        n[axis as usize] = if upper { 1.0 } else { -1.0 };
+        FloatPlane { axis, upper, value, ..FloatPlane::general(Plane::Axis { axis, upper, value }, n, DVec3::ZERO, DVec3::ZERO, 0.0, 0) }
     }
 
     /// `n · (x − anchor) + offset` with `|ñ − n| ≤ en`.
@@ -514,7 +517,7 @@ impl CertifiedClipper {
         };
         // An axis plane gives the shadow vertices an exact coordinate and
         // cheap crossings with the scene's faces.
-        self.planes[k] = FloatPlane::new(Plane::Axis { axis: axis as u8, upper, value }, 0);
+        self.planes[k] = FloatPlane::axis(axis as u8, upper, value);
         self.partners[k] = 0;
         self.n_planes += 1;
         Some(k)
@@ -568,7 +571,11 @@ impl CertifiedClipper {
                     self.cleared += 1;
                     continue;
                 }
-                let step = self.clip(FloatPlane::new(Plane::Axis { axis, upper, value }, 0));
+                if self.n_planes >= MAX_FAST_PLANES {
+                    return Step::Uncertain;
+                }
+                self.planes[self.n_planes] = FloatPlane::axis(axis, upper, value);
+                let step = self.clip();
                 if step != Step::Solid {
                     return step;
                 }
@@ -608,13 +615,18 @@ impl CertifiedClipper {
         let radius = (hi - centre).max(centre - lo) * (1.0 + 4.0 * U);
         for (p, &through) in set.as_slice().iter().zip(set.through()) {
             let through = if light_frustum { through << LIGHT_FRUSTUM_SHIFT } else { through };
-            let plane = FloatPlane::new(*p, through);
-            let (s, e) = plane.side(centre, radius);
+            if self.n_planes >= MAX_FAST_PLANES {
+                return Step::Uncertain;
+            }
+            // Staged in the next free slot: a cleared plane is overwritten
+            // by the next one.
+            self.planes[self.n_planes] = FloatPlane::new(*p, through);
+            let (s, e) = self.planes[self.n_planes].side(centre, radius);
             if decide(s, e) == Some(-1) {
                 self.cleared += 1;
                 continue;
             }
-            let step = self.clip(plane);
+            let step = self.clip();
             if step != Step::Solid {
                 return step;
             }
@@ -622,28 +634,30 @@ impl CertifiedClipper {
         Step::Solid
     }
 
-    fn clip(&mut self, plane: FloatPlane) -> Step {
-        if self.n_planes >= MAX_FAST_PLANES {
-            return Step::Uncertain;
-        }
+    /// Clips by the plane the caller staged in slot `n_planes`.
+    ///
+    /// NOTE: staged in place rather than passed by value: a plane is ~250
+    /// bytes, and two copies of it per clip were a visible share of a cut.
+    fn clip(&mut self) -> Step {
         let k = self.n_planes;
-        self.planes[k] = plane;
+        let plane = &self.planes[k];
+        let (through, axis, upper, value) = (plane.through, plane.axis, plane.upper, plane.value);
         self.magnitude = self.magnitude.max(plane.src.magnitude());
         let mut partners = 0;
-        if two_or_more(plane.through as u64) {
+        if two_or_more(through as u64) {
             for (i, p) in self.planes[..k].iter().enumerate() {
-                if two_or_more((p.through & plane.through) as u64) && matches!(p.src, Plane::Points(_)) {
+                if two_or_more((p.through & through) as u64) && matches!(p.src, Plane::Points(_)) {
                     partners |= 1 << i;
                 }
             }
         }
         self.partners[k] = partners;
         let (mut neg, mut pos) = (0, 0);
-        if plane.axis < 3 {
+        if axis < 3 {
             // An axis plane has no input points and no fold partners: its
             // sign is a comparison, exact where the coordinate is.
-            let (a, value) = (plane.axis as usize, plane.value);
-            let flip = if plane.upper { 1.0 } else { -1.0 };
+            let a = axis as usize;
+            let flip = if upper { 1.0 } else { -1.0 };
             for v in 0..self.n_verts {
                 let s = (self.pos[v][a] - value) * flip;
                 let Some(s) = decide(s, self.rad[v][a] * SLACK + 2.0 * U * s.abs()) else { return Step::Uncertain };
