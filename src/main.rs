@@ -23,6 +23,10 @@ enum Command {
         /// Time every case (excluding parsing) and print one JSON summary line.
         #[arg(long)]
         bench: bool,
+        /// Print only the input lines whose body the certified float path
+        /// answers (a case set for measuring that path alone).
+        #[arg(long, conflicts_with = "bench")]
+        float_path_cases: bool,
     },
     /// Shadow-map matrices for JSON-lines cases.
     Fit {
@@ -98,11 +102,14 @@ fn failures(failed: usize) -> Result<bool, String> {
 fn run(command: Command) -> Result<bool, String> {
     let io_err = |e: io::Error| e.to_string();
     match command {
-        Command::Body { input, bench } => {
+        Command::Body { input, bench, float_path_cases } => {
             let input = open(&input).map_err(io_err)?;
             if bench {
                 println!("{}", cli::body::bench(input).map_err(io_err)?);
                 return Ok(true);
+            }
+            if float_path_cases {
+                return failures(quiet_pipe(cli::body::float_path_cases(input, BufWriter::new(io::stdout().lock())))?);
             }
             failures(quiet_pipe(cli::body::run(input, BufWriter::new(io::stdout().lock())))?)
         }

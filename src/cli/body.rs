@@ -46,6 +46,25 @@ pub fn run(input: impl BufRead, mut out: impl Write) -> std::io::Result<usize> {
     Ok(failed)
 }
 
+/// `--float-path-cases`: copies the lines whose body the certified float
+/// path answers; returns how many lines could not be computed.
+pub fn float_path_cases(input: impl BufRead, mut out: impl Write) -> std::io::Result<usize> {
+    let mut failed = 0;
+    let mut body = Body::new();
+    for line in input.lines() {
+        let line = line?;
+        if line.trim().is_empty() {
+            continue;
+        }
+        match parse_case(&line).map(|case| focus_body_into(&mut body, &case.view, &case.light, &case.scene)) {
+            Ok(Ok(())) if body.stats().float_path => writeln!(out, "{line}")?,
+            Ok(Ok(())) => {}
+            _ => failed += 1,
+        }
+    }
+    Ok(failed)
+}
+
 /// Median of a sample (sorted in place).
 pub fn median(xs: &mut [f64]) -> f64 {
     xs.sort_by(f64::total_cmp);
@@ -129,4 +148,31 @@ pub fn bench(input: impl BufRead) -> std::io::Result<Value> {
         "cases_using_big_integers": exact_cases,
         "invalid_lines_skipped": skipped,
     }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The scene fixtures mix both kinds: touching and flat cases go to the
+    /// exact engine, the rest are answered by the float path.
+    #[test]
+    fn float_path_cases_keeps_exactly_the_cases_the_float_path_answers() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/cases/scene.jsonl");
+        let text = std::fs::read_to_string(path).unwrap();
+        let mut out = Vec::new();
+        assert_eq!(float_path_cases(text.as_bytes(), &mut out).unwrap(), 0);
+        let kept: Vec<&str> = std::str::from_utf8(&out).unwrap().lines().collect();
+        let mut body = Body::new();
+        let mut expected = Vec::new();
+        for line in text.lines().filter(|l| !l.trim().is_empty()) {
+            let case = parse_case(line).unwrap();
+            focus_body_into(&mut body, &case.view, &case.light, &case.scene).unwrap();
+            if body.stats().float_path {
+                expected.push(line);
+            }
+        }
+        assert!(!kept.is_empty() && kept.len() < text.lines().count(), "{} of {}", kept.len(), text.lines().count());
+        assert_eq!(kept, expected);
+    }
 }
