@@ -35,11 +35,8 @@ pub struct CameraBasis {
 }
 
 impl Camera {
-    /// Checks every parameter and returns the orthonormal basis.
-    pub fn basis(&self) -> Result<CameraBasis, GeomError> {
-        check_finite(self.eye, "camera eye")?;
-        check_finite(self.forward, "camera forward")?;
-        check_finite(self.up, "camera up")?;
+    /// Field of view, aspect, near and far: finite and in range.
+    fn check_scalars(&self) -> Result<(), GeomError> {
         for (v, what) in [
             (self.fovy, "camera fovy"),
             (self.aspect, "camera aspect"),
@@ -62,6 +59,15 @@ impl Camera {
         if !(self.near < self.far) {
             return Err(GeomError::InvalidCamera { reason: "near must be smaller than far" });
         }
+        Ok(())
+    }
+
+    /// Checks every parameter and returns the orthonormal basis.
+    pub fn basis(&self) -> Result<CameraBasis, GeomError> {
+        check_finite(self.eye, "camera eye")?;
+        check_finite(self.forward, "camera forward")?;
+        check_finite(self.up, "camera up")?;
+        self.check_scalars()?;
         let f_len = self.forward.length();
         if !(f_len > 0.0) || !f_len.is_finite() {
             return Err(GeomError::ZeroDirection { what: "camera forward" });
@@ -83,17 +89,19 @@ impl Camera {
     /// The eight frustum corners in the documented order.
     pub fn corners(&self) -> Result<[DVec3; 8], GeomError> {
         let b = self.basis()?;
-        self.corners_in(&b)
+        self.corner_points(&b)
     }
 
     /// [`Camera::corners`] with the basis already computed by
-    /// [`Camera::basis`] for a camera with the same eye, forward, up, fovy
-    /// and aspect (the splits of one view share it); near and far are
-    /// checked here.
+    /// [`Camera::basis`] for a camera with the same eye, forward and up (the
+    /// splits of one view share it); the other parameters are checked here.
     pub fn corners_in(&self, b: &CameraBasis) -> Result<[DVec3; 8], GeomError> {
-        if !(self.near > 0.0 && self.near < self.far && self.far.is_finite()) {
-            return Err(GeomError::InvalidCamera { reason: "near must be positive and smaller than a finite far" });
-        }
+        self.check_scalars()?;
+        self.corner_points(b)
+    }
+
+    /// The corners for checked parameters.
+    fn corner_points(&self, b: &CameraBasis) -> Result<[DVec3; 8], GeomError> {
         let tan_half = (0.5 * self.fovy).tan();
         let mut out = [DVec3::ZERO; 8];
         for (k, t) in [self.near, self.far].into_iter().enumerate() {

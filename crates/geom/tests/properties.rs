@@ -762,6 +762,9 @@ proptest! {
         let b = geom(cam.basis())?;
         let mid = cam.eye + b.forward * (0.5 * (cam.near + cam.far));
         prop_assert!(f.contains(mid) || (mid - cam.eye).length() < 1e-6 * cam.far);
+        // With the basis computed once (as the splits of one view do), the
+        // same frustum, corner for corner.
+        prop_assert_eq!(geom(Frustum::from_camera_in(&cam, &b))?, f);
     }
 
     /// Bad input is an error, never a panic: NaN or infinity anywhere,
@@ -787,6 +790,11 @@ proptest! {
         }
         prop_assert!(Frustum::from_camera(&broken).is_err(), "camera field {} broken but accepted", field);
         prop_assert!(broken.corners().is_err());
+        // A broken fovy, aspect, near or far is caught with the basis given too.
+        if (9..=13).contains(&field) {
+            let basis = geom(cam.basis())?;
+            prop_assert!(Frustum::from_camera_in(&broken, &basis).is_err(), "camera field {} broken but accepted with a basis", field);
+        }
 
         let mut corners = *good.corners();
         corners[corner][axis] = bad;
