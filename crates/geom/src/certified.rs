@@ -92,6 +92,9 @@ struct FloatPlane {
 
 
 impl FloatPlane {
+    // NOTE: inlined so that callers build the ~250-byte plane in its slot
+    // instead of copying it out of a temporary.
+    #[inline(always)]
     fn new(src: Plane, through: u32) -> FloatPlane {
         let general = |n: DVec3, en: DVec3, anchor: DVec3, offset: f64| FloatPlane::general(src, n, en, anchor, offset, through);
         match src {
