@@ -1,6 +1,6 @@
 //! `shadowfocus body`: focus bodies for JSON-lines cases.
 
-use super::case::{parse_case, Case};
+use super::case::{case_lines, parse_case, Case};
 use serde_json::{json, Value};
 use shadowfocus_geom::{focus_body_exact_into, focus_body_into, Body, Frustum};
 use std::io::{BufRead, Write};
@@ -23,11 +23,8 @@ pub fn body_json(id: &Value, body: &Body) -> Value {
 pub fn run(input: impl BufRead, mut out: impl Write) -> std::io::Result<usize> {
     let mut failed = 0;
     let mut body = Body::new();
-    for line in input.lines() {
+    for line in case_lines(input) {
         let line = line?;
-        if line.trim().is_empty() {
-            continue;
-        }
         let result = match parse_case(&line) {
             Ok(case) => match focus_body_into(&mut body, &case.view, &case.light, &case.scene) {
                 Ok(()) => body_json(&case.id, &body),
@@ -51,11 +48,8 @@ pub fn run(input: impl BufRead, mut out: impl Write) -> std::io::Result<usize> {
 pub fn float_path_cases(input: impl BufRead, mut out: impl Write) -> std::io::Result<usize> {
     let mut failed = 0;
     let mut body = Body::new();
-    for line in input.lines() {
+    for line in case_lines(input) {
         let line = line?;
-        if line.trim().is_empty() {
-            continue;
-        }
         match parse_case(&line).map(|case| focus_body_into(&mut body, &case.view, &case.light, &case.scene)) {
             Ok(Ok(())) if body.stats().float_path => writeln!(out, "{line}")?,
             Ok(Ok(())) => {}
@@ -95,11 +89,8 @@ pub fn case_median_ns(mut f: impl FnMut()) -> f64 {
 pub fn bench(input: impl BufRead) -> std::io::Result<Value> {
     let mut cases: Vec<Case> = Vec::new();
     let mut skipped = 0;
-    for line in input.lines() {
+    for line in case_lines(input) {
         let line = line?;
-        if line.trim().is_empty() {
-            continue;
-        }
         match parse_case(&line) {
             Ok(c) => cases.push(c),
             Err(_) => skipped += 1,

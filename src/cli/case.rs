@@ -125,6 +125,11 @@ fn geom(e: GeomError) -> String {
     e.to_string()
 }
 
+/// The lines of a JSON-lines input that hold a case (blank lines skipped).
+pub fn case_lines(input: impl std::io::BufRead) -> impl Iterator<Item = std::io::Result<String>> {
+    input.lines().filter(|line| line.as_ref().map_or(true, |l| !l.trim().is_empty()))
+}
+
 /// Parses and validates one line.
 pub fn parse_case(line: &str) -> Result<Case, CaseError> {
     let value: Value = serde_json::from_str(line)

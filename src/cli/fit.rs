@@ -1,7 +1,7 @@
 //! `shadowfocus fit`: shadow-map matrices for JSON-lines cases.
 
 use super::body::{case_median_ns, median};
-use super::case::{parse_case, Case};
+use super::case::{case_lines, parse_case, Case};
 use serde_json::{json, Value};
 use shadowfocus_focus::{camera_from_corners, fit, FocusResult, FocusSettings, Method, SplitScheme, SplitSettings};
 use shadowfocus_geom::Camera;
@@ -100,11 +100,8 @@ fn result_json(case: &Case, settings: &FocusSettings, r: &FocusResult) -> Value 
 pub fn run(input: impl BufRead, mut out: impl Write, settings: &FocusSettings) -> std::io::Result<usize> {
     let mut failed = 0;
     let mut result = FocusResult::new();
-    for line in input.lines() {
+    for line in case_lines(input) {
         let line = line?;
-        if line.trim().is_empty() {
-            continue;
-        }
         let value = match parse_case(&line) {
             Ok(case) => match case_camera(&case)
                 .and_then(|cam| fit(&cam, &case.light, &case.scene, settings, &mut result).map_err(|e| e.to_string()))
