@@ -574,10 +574,8 @@ impl CertifiedClipper {
                     self.cleared += 1;
                     continue;
                 }
-                if self.n_planes >= MAX_FAST_PLANES {
-                    return Step::Uncertain;
-                }
-                self.planes[self.n_planes] = FloatPlane::axis(axis, upper, value);
+                let Some(slot) = self.next_slot() else { return Step::Uncertain };
+                *slot = FloatPlane::axis(axis, upper, value);
                 let step = self.clip();
                 if step != Step::Solid {
                     return step;
@@ -618,13 +616,11 @@ impl CertifiedClipper {
         let radius = (hi - centre).max(centre - lo) * (1.0 + 4.0 * U);
         for (p, &through) in set.as_slice().iter().zip(set.through()) {
             let through = if light_frustum { through << LIGHT_FRUSTUM_SHIFT } else { through };
-            if self.n_planes >= MAX_FAST_PLANES {
-                return Step::Uncertain;
-            }
             // Staged in the next free slot: a cleared plane is overwritten
             // by the next one.
-            self.planes[self.n_planes] = FloatPlane::new(*p, through);
-            let (s, e) = self.planes[self.n_planes].side(centre, radius);
+            let Some(slot) = self.next_slot() else { return Step::Uncertain };
+            *slot = FloatPlane::new(*p, through);
+            let (s, e) = slot.side(centre, radius);
             if decide(s, e) == Some(-1) {
                 self.cleared += 1;
                 continue;
@@ -637,7 +633,14 @@ impl CertifiedClipper {
         Step::Solid
     }
 
-    /// Clips by the plane the caller staged in slot `n_planes`.
+    /// The free slot where [`CertifiedClipper::clip`] takes its plane;
+    /// `None` when every slot is used.
+    fn next_slot(&mut self) -> Option<&mut FloatPlane> {
+        self.planes.get_mut(self.n_planes)
+    }
+
+    /// Clips by the plane the caller staged in slot `n_planes` (see
+    /// [`CertifiedClipper::next_slot`]).
     ///
     /// NOTE: staged in place rather than passed by value: a plane is ~250
     /// bytes, and two copies of it per clip were a visible share of a cut.
