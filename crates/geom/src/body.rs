@@ -174,8 +174,12 @@ pub struct Body {
     work: Option<Box<Polytope>>,
     fast: Option<Box<CertifiedClipper>>,
     plan: Option<Box<Plan>>,
-    /// The inputs of the last successful computation.
+    /// The inputs of the last computation, valid when `inputs_valid`.
+    ///
+    /// NOTE: overwritten in place, field by field: assigning a fresh
+    /// `Some((…))` built the ~700-byte tuple on the stack and copied it again.
     inputs: Option<(Frustum, Light, Aabb)>,
+    inputs_valid: bool,
 }
 
 impl Default for Body {
@@ -211,6 +215,7 @@ impl Body {
             fast: None,
             plan: None,
             inputs: None,
+            inputs_valid: false,
         }
     }
 
@@ -240,6 +245,7 @@ impl Body {
 
     /// Face `i` as vertex indices, counter-clockwise seen from outside (for
     /// a polygon: seen from the side its face plane's normal points to).
+    #[inline]
     pub fn face(&self, i: usize) -> &[u16] {
         &self.idx[self.face_start[i] as usize..self.face_start[i + 1] as usize]
     }
@@ -264,7 +270,7 @@ impl Body {
     /// NOTE: this runs the exact engine again on the last inputs (and
     /// allocates): it is a verification tool, not part of a frame.
     pub fn exact(&self) -> Option<Box<Polytope>> {
-        let (view, light, scene) = self.inputs?;
+        let (view, light, scene) = self.inputs.filter(|_| self.inputs_valid)?;
         let mut work = Box::new(Polytope::from_aabb(&scene));
         let mut plan = Box::new(Plan::new());
         match plan_into(&mut plan, &view, &light, &scene).ok()? {
@@ -272,6 +278,18 @@ impl Body {
             false => work.make_empty(),
         }
         Some(work)
+    }
+
+    fn remember_inputs(&mut self, view: &Frustum, light: &Light, scene: &Aabb) {
+        match &mut self.inputs {
+            Some((v, l, s)) => {
+                *v = *view;
+                *l = *light;
+                *s = *scene;
+            }
+            None => self.inputs = Some((*view, *light, *scene)),
+        }
+        self.inputs_valid = true;
     }
 
     /// The smallest box around the rounded vertices, `None` when empty.
@@ -428,7 +446,7 @@ pub fn focus_body_exact_into(out: &mut Body, view: &Frustum, light: &Light, scen
 fn compute(out: &mut Body, view: &Frustum, light: &Light, scene: &Aabb, float_path: bool, skip: bool) -> Result<(), GeomError> {
     scene.validate()?;
     light.validate()?;
-    out.inputs = None;
+    out.inputs_valid = false;
     let mut stats = FocusStats { light_clip_skipped: !matches!(light, Light::Spot { .. }), ..FocusStats::default() };
     let mut plan = out.plan.take().unwrap_or_else(|| Box::new(Plan::new()));
     let nonempty = plan_into(&mut plan, view, light, scene);
@@ -440,7 +458,7 @@ fn compute(out: &mut Body, view: &Frustum, light: &Light, scene: &Aabb, float_pa
             stats.early_exit = true;
             stats.float_path = float_path;
             out.stats = stats;
-            out.inputs = Some((*view, *light, *scene));
+            out.remember_inputs(view, light, scene);
             Ok(())
         }
         Err(e) => {
@@ -491,7 +509,7 @@ fn compute_planned(out: &mut Body, plan: &mut Plan, view: &Frustum, light: &Ligh
         out.work = Some(work);
     }
     out.stats = stats;
-    out.inputs = Some((*view, *light, *scene));
+    out.remember_inputs(view, light, scene);
     Ok(())
 }
 

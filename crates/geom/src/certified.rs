@@ -35,7 +35,7 @@
 //! goes to the exact engine.
 
 use crate::body::{Aabb, Body};
-use crate::frustum::{abs_cross, Apex, Frustum, Origin, PlaneSet};
+use crate::frustum::{abs_cross, creased_pair, Apex, Frustum, Origin, PlaneSet};
 use crate::plane::Plane;
 use crate::polytope::{point_side, ROUNDING_ULPS};
 use crate::{MAX_FACE_INDICES, MAX_VERTICES};
@@ -123,6 +123,7 @@ impl FloatPlane {
     }
 
     /// `n · (x − anchor) + offset` with `|ñ − n| ≤ en`.
+    #[inline(always)]
     fn general(src: Plane, n: DVec3, en: DVec3, anchor: DVec3, offset: f64, through: u32) -> FloatPlane {
         // NOTE: |s̃ − s| ≤ 6u(|ñ|·|w̃| + |offset|) (the dot product, the
         // difference w̃ = x̃ − anchor and the offset's addition) + en·|w̃|
@@ -418,8 +419,15 @@ impl CertifiedClipper {
         // of the corners' shadows on the closing plane (directional light).
         let mut vid = [NONE; 9];
         let mut shadow = [NONE; 8];
-        for (p, (&plane, &through)) in hull.as_slice().iter().zip(hull.through()).enumerate() {
-            self.planes[p] = FloatPlane::new(plane, through);
+        for (p, ((&plane, &through), origin)) in hull.as_slice().iter().zip(hull.through()).zip(hull.origins()).enumerate() {
+            self.planes[p] = match (plane, *origin) {
+                // The frustum computed this cross product when it was validated.
+                (Plane::Points([anchor, ..]), Origin::Face(f)) => {
+                    let (n, abs_n) = view.face_normal(f as usize);
+                    FloatPlane::general(plane, n, abs_n * (4.0 * U * SLACK), anchor, 0.0, through)
+                }
+                _ => FloatPlane::new(plane, through),
+            };
             self.partners[p] = 0;
         }
         self.n_planes = hull.as_slice().len();
@@ -769,7 +777,12 @@ impl CertifiedClipper {
         let proxy = line_proxy(&self.planes[i], a, c);
         let (s, err) = proxy.side(y, DVec3::ZERO);
         let proxy_y = decide(s, err).filter(|&s| s != 0)?;
-        let k_y = point_side(&self.planes[k].src, y);
+        // NOTE: across a crease `y` lies within rounding of plane k, where
+        // only exact arithmetic decides; the frustum's fold test already did.
+        let (ti, tk) = (self.planes[i].through, self.planes[k].through);
+        let creased = creased_pair(ti, tk) || creased_pair(ti >> LIGHT_FRUSTUM_SHIFT, tk >> LIGHT_FRUSTUM_SHIFT);
+        let k_y = if creased { -1 } else { point_side(&self.planes[k].src, y) };
+        debug_assert_eq!(k_y, point_side(&self.planes[k].src, y));
         if k_y == 0 {
             return None;
         }

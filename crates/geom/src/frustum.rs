@@ -42,6 +42,12 @@ pub struct Frustum {
     in_range: bool,
     /// The face holding each directed edge `a → b` (`u8::MAX`: none).
     edge_face: [[u8; 8]; 8],
+    /// Per face, `(q − p) × (r − p)` over its first three corners and the
+    /// same with absolute values: the static filter's data, computed once
+    /// here and reused by every later test against the face (the light's
+    /// side in [`Frustum::hull_with`], the float path's face planes).
+    normals: [DVec3; MAX_FRUSTUM_FACES],
+    abs_normals: [DVec3; MAX_FRUSTUM_FACES],
 }
 
 /// A light as a homogeneous point: finite, or at infinity in a direction.
@@ -121,6 +127,37 @@ impl PlaneSet {
     }
 }
 
+/// Whether two corner masks (as in [`PlaneSet::through`]) are the two
+/// triangles of one creased quad.
+///
+/// Two proper parts of a quad that share two corners and together hold all
+/// four have three corners each (3 + 3 = 4 + 2), and the only faces with
+/// three corners of one quad are the triangles of its crease.
+///
+/// NOTE: a validated frustum creases a quad only where its exact fold test
+/// is nonzero, which puts each triangle's third corner strictly inside the
+/// other triangle's plane: a sign known without arithmetic.
+#[inline]
+pub(crate) fn creased_pair(a: u32, b: u32) -> bool {
+    let (all, common) = (a | b, a & b);
+    a != all && b != all && common & common.wrapping_sub(1) != 0 && QUAD_MASKS.contains(&all)
+}
+
+/// The corner masks of [`QUADS`].
+const QUAD_MASKS: [u32; 6] = {
+    let mut masks = [0; 6];
+    let mut q = 0;
+    while q < 6 {
+        let mut k = 0;
+        while k < 4 {
+            masks[q] |= 1 << QUADS[q][k];
+            k += 1;
+        }
+        q += 1;
+    }
+    masks
+};
+
 fn corner_bits(idx: &[u8]) -> u32 {
     idx.iter().fold(0, |m, &i| m | 1 << i)
 }
@@ -151,12 +188,24 @@ fn in_safe_range(v: DVec3) -> bool {
 
 /// [`orient`] with the range test done by the caller (once per frustum).
 fn orient_checked(p: DVec3, q: DVec3, r: DVec3, x: DVec3, in_range: bool) -> i8 {
+    if in_range {
+        if let Some(s) = FaceFilter::new(p, q, r).side(x) {
+            return s;
+        }
+    }
+    orient_past_static_filter(p, q, r, x, in_range)
+}
+
+/// [`orient`]'s stages after the static filter, for callers that ran the
+/// filter themselves (with a face's stored [`FaceFilter`]).
+fn orient_past_static_filter(p: DVec3, q: DVec3, r: DVec3, x: DVec3, in_range: bool) -> i8 {
     fn eval<T: Ring>(p: DVec3, q: DVec3, r: DVec3, x: DVec3) -> T {
         dot(&cross(&diff::<T>(q, p), &diff::<T>(r, p)), &diff::<T>(x, p))
     }
-    let filtered = if in_range { FaceFilter::new(p, q, r).side(x) } else { eval::<Filtered>(p, q, r, x).sign() };
-    if let Some(s) = filtered {
-        return s;
+    if !in_range {
+        if let Some(s) = eval::<Filtered>(p, q, r, x).sign() {
+            return s;
+        }
     }
     if let Some(s) = crate::wide::orient_det_sign(p.to_array(), q.to_array(), r.to_array(), x.to_array()) {
         return s;
@@ -229,14 +278,11 @@ impl FaceFilter {
 }
 
 /// Sign of `((q − p) × (r − p)) · dir`: whether the point at infinity in
-/// `dir` lies on the outer side of the triangle's plane.
-/// `in_range`: every input is in the static filters' safe range.
-fn orient_direction(p: DVec3, q: DVec3, r: DVec3, dir: DVec3, in_range: bool) -> i8 {
+/// `dir` lies on the outer side of the triangle's plane, for callers that
+/// ran the static filter themselves (or whose inputs are outside its range).
+fn orient_direction_past_static_filter(p: DVec3, q: DVec3, r: DVec3, dir: DVec3) -> i8 {
     fn eval<T: Ring>(p: DVec3, q: DVec3, r: DVec3, dir: DVec3) -> T {
         dot(&cross(&diff::<T>(q, p), &diff::<T>(r, p)), &lift::<T>(dir))
-    }
-    if let Some(s) = in_range.then(|| FaceFilter::new(p, q, r).side_of_direction(dir)).flatten() {
-        return s;
     }
     match eval::<Filtered>(p, q, r, dir).sign() {
         Some(s) => s,
@@ -282,7 +328,7 @@ impl Frustum {
         if hand == 0 {
             return Err(GeomError::DegenerateFrustum { what, reason: "all corners are coplanar" });
         }
-        let mut f = Frustum { corners, faces: [[0; 4]; MAX_FRUSTUM_FACES], faces_len: [0; MAX_FRUSTUM_FACES], n_faces: 0, coplanar_faces: false, in_range, edge_face: [[u8::MAX; 8]; 8] };
+        let mut f = Frustum { corners, faces: [[0; 4]; MAX_FRUSTUM_FACES], faces_len: [0; MAX_FRUSTUM_FACES], n_faces: 0, coplanar_faces: false, in_range, edge_face: [[u8::MAX; 8]; 8], normals: [DVec3::ZERO; MAX_FRUSTUM_FACES], abs_normals: [DVec3::ZERO; MAX_FRUSTUM_FACES] };
         // Per face: the corners of the quad it comes from.
         let mut quad_corners = [0u8; MAX_FRUSTUM_FACES];
         for quad in QUADS {
@@ -313,6 +359,7 @@ impl Frustum {
             let face = f.face(i);
             let (a, b, c) = (corners[face[0] as usize], corners[face[1] as usize], corners[face[2] as usize]);
             let plane = FaceFilter::new(a, b, c);
+            (f.normals[i], f.abs_normals[i]) = (plane.normal, plane.abs_normal);
             let mut strictly_inside = false;
             for (k, &x) in corners.iter().enumerate() {
                 if quad_corners[i] & 1 << k != 0 {
@@ -360,6 +407,17 @@ impl Frustum {
     /// Number of faces of the exact hull (6 when every side is planar, up to 12).
     pub fn face_count(&self) -> usize {
         self.n_faces as usize
+    }
+
+    /// Face `i`'s static filter (valid for tests when `in_range`).
+    fn face_filter(&self, i: usize) -> FaceFilter {
+        FaceFilter { p: self.corners[self.faces[i][0] as usize], normal: self.normals[i], abs_normal: self.abs_normals[i] }
+    }
+
+    /// Face `i`'s plane as `Plane::Points` and its cross product `(q − p) ×
+    /// (r − p)` with absolute values: what the float path builds it from.
+    pub(crate) fn face_normal(&self, i: usize) -> (DVec3, DVec3) {
+        (self.normals[i], self.abs_normals[i])
     }
 
     fn face_plane(&self, i: usize) -> Plane {
@@ -418,9 +476,16 @@ impl Frustum {
         for (i, seen) in sees.iter_mut().enumerate().take(n) {
             let f = self.face(i);
             let [a, b, c] = [self.corners[f[0] as usize], self.corners[f[1] as usize], self.corners[f[2] as usize]];
+            let filter = self.face_filter(i);
             let side = match apex {
-                Apex::Finite(l) => orient_checked(a, b, c, l, in_range),
-                Apex::Infinite(dir) => orient_direction(a, b, c, dir, in_range),
+                Apex::Finite(l) => match in_range.then(|| filter.side(l)).flatten() {
+                    Some(s) => s,
+                    None => orient_past_static_filter(a, b, c, l, in_range),
+                },
+                Apex::Infinite(dir) => match in_range.then(|| filter.side_of_direction(dir)).flatten() {
+                    Some(s) => s,
+                    None => orient_direction_past_static_filter(a, b, c, dir),
+                },
             };
             *seen = side > 0;
             out.apex_coplanar |= side == 0;
