@@ -606,6 +606,49 @@ mod tests {
         }
     }
 
+    /// The sign `creased_pair` promises, checked exactly: on camera frusta
+    /// (whose rounded side quads crease either way) and on both handedness.
+    #[test]
+    fn a_creased_pair_holds_each_third_corner_strictly_inside_the_other_plane() {
+        use proptest::prelude::Rng;
+        use proptest::test_runner::{RngAlgorithm, TestRng};
+        let mut rng = TestRng::deterministic_rng(RngAlgorithm::ChaCha);
+        let (mut pairs, mut other_pairs) = (0, 0);
+        for _ in 0..300 {
+            let mut v = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
+            let cam = Camera {
+                eye: DVec3::new(v() * 100.0, v() * 100.0, v() * 100.0),
+                forward: DVec3::new(v(), v(), v()),
+                up: DVec3::new(v(), v(), v()),
+                fovy: 1.0 + v() * 0.5,
+                aspect: 1.5 + v() * 0.5,
+                near: 0.5 + v() * 0.25,
+                far: 300.0 + v() * 200.0,
+            };
+            let Ok(f) = Frustum::from_camera(&cam) else { continue };
+            let mut mirrored = *f.corners();
+            mirrored.iter_mut().for_each(|c| c.x = -c.x);
+            for f in [f, Frustum::from_corners(mirrored).unwrap()] {
+                for i in 0..f.face_count() {
+                    for k in 0..f.face_count() {
+                        let (a, b) = (corner_bits(f.face(i)), corner_bits(f.face(k)));
+                        if i == k || !creased_pair(a, b) {
+                            other_pairs += (i != k) as usize;
+                            continue;
+                        }
+                        pairs += 1;
+                        let third = f.face(i).iter().find(|&&c| b & 1 << c == 0).unwrap();
+                        let t = f.face(k);
+                        let c = f.corners();
+                        assert_eq!(orient(c[t[0] as usize], c[t[1] as usize], c[t[2] as usize], c[*third as usize]), -1);
+                    }
+                }
+            }
+        }
+        // Both kinds occur: the test is not vacuous.
+        assert!(pairs > 500 && other_pairs > 5000, "{pairs} creased pairs, {other_pairs} others");
+    }
+
     #[test]
     fn bad_frusta_are_rejected() {
         let mut c = unit_frustum();
