@@ -55,16 +55,18 @@ fn minor(x0: i128, y1: i128, x1: i128, y0: i128) -> (i128, i128) {
     (a + carry, b - (carry << (2 * LIMB)))
 }
 
-/// `(m, e)` with `x = m · 2^e`, `|m| < 2^53`; `None` for zero.
-fn split(x: f64) -> Option<(i64, i32)> {
-    if x == 0.0 {
-        return None;
-    }
+/// `(m, e)` with `x = m · 2^e`, `|m| < 2^53` (`m = 0` for zero).
+///
+/// NOTE: branch-free: the implicit bit, the subnormal exponent and the sign
+/// are masks, so twelve coordinates decompose without twelve mispredictable
+/// branches (the signs of frustum coordinates are arbitrary).
+#[inline(always)]
+fn split(x: f64) -> (i64, i32) {
     let bits = x.to_bits();
-    let exp = ((bits >> 52) & 0x7ff) as i32;
-    let frac = (bits & ((1 << 52) - 1)) as i64;
-    let (m, e) = if exp == 0 { (frac, -1074) } else { (frac | 1 << 52, exp - 1075) };
-    Some((if bits >> 63 == 1 { -m } else { m }, e))
+    let biased = ((bits >> 52) & 0x7ff) as i32;
+    let magnitude = (bits & ((1 << 52) - 1)) as i64 | i64::from(biased != 0) << 52;
+    let sign = (bits as i64) >> 63;
+    ((magnitude ^ sign) - sign, biased.max(1) - 1075)
 }
 
 /// Sign of `det[q − p, r − p, x − p]` (the orientation of `x` against the
@@ -76,12 +78,13 @@ pub(crate) fn orient_det_sign(p: [f64; 3], q: [f64; 3], r: [f64; 3], x: [f64; 3]
     let mut mantissa = [0i64; 12];
     let mut exponent = [0i32; 12];
     let (mut e_min, mut e_max) = (i32::MAX, i32::MIN);
-    for (c, (m, e)) in coords.iter().zip(mantissa.iter_mut().zip(exponent.iter_mut())) {
-        if let Some((mc, ec)) = split(*c) {
-            (*m, *e) = (mc, ec);
-            e_min = e_min.min(ec);
-            e_max = e_max.max(ec);
-        }
+    for i in 0..12 {
+        let (m, e) = split(coords[i]);
+        mantissa[i] = m;
+        exponent[i] = e;
+        // Zeros take no part in the exponent range.
+        e_min = e_min.min(if m != 0 { e } else { i32::MAX });
+        e_max = e_max.max(if m != 0 { e } else { i32::MIN });
     }
     if e_min == i32::MAX {
         return Some(0); // all zero
@@ -90,13 +93,8 @@ pub(crate) fn orient_det_sign(p: [f64; 3], q: [f64; 3], r: [f64; 3], x: [f64; 3]
         return None;
     }
     // Scaled by 2^-e_min every coordinate is an integer below 2^76, every
-    // difference below 2^77.
-    let mut int = [0i128; 12];
-    for i in 0..12 {
-        if mantissa[i] != 0 {
-            int[i] = (mantissa[i] as i128) << (exponent[i] - e_min);
-        }
-    }
+    // difference below 2^77. (A zero's shift is clamped; it shifts nothing.)
+    let int: [i128; 12] = std::array::from_fn(|i| (mantissa[i] as i128) << (exponent[i] - e_min).max(0));
     let diff = |k: usize| [int[3 * k] - int[0], int[3 * k + 1] - int[1], int[3 * k + 2] - int[2]];
     let (a, b, c) = (diff(1), diff(2), diff(3));
     // det = Σ a_i · m_i over the minors of b and c.
@@ -137,8 +135,13 @@ mod tests {
     fn reference(p: [f64; 3], q: [f64; 3], r: [f64; 3], x: [f64; 3]) -> i8 {
         use num_bigint::BigInt;
         use num_traits::Signed;
-        let e_min = [p, q, r, x].iter().flatten().filter_map(|v| split(*v)).map(|(_, e)| e).min().unwrap_or(0);
-        let int = |v: f64| split(v).map_or(BigInt::from(0), |(m, e)| BigInt::from(m) << (e - e_min) as usize);
+        // Decomposed independently of `split`: num-traits' integer_decode.
+        let decode = |v: f64| {
+            let (m, e, sign) = num_traits::float::FloatCore::integer_decode(v);
+            (m != 0).then(|| (BigInt::from(m) * i64::from(sign), i32::from(e)))
+        };
+        let e_min = [p, q, r, x].iter().flatten().filter_map(|v| decode(*v)).map(|(_, e)| e).min().unwrap_or(0);
+        let int = |v: f64| decode(v).map_or(BigInt::from(0), |(m, e)| m << (e - e_min) as usize);
         let d = |a: [f64; 3]| [0, 1, 2].map(|i| int(a[i]) - int(p[i]));
         let (a, b, c) = (d(q), d(r), d(x));
         let det = &a[0] * (&b[1] * &c[2] - &b[2] * &c[1]) - &a[1] * (&b[0] * &c[2] - &b[2] * &c[0]) + &a[2] * (&b[0] * &c[1] - &b[1] * &c[0]);
@@ -208,6 +211,28 @@ mod tests {
             nonzero += usize::from(got != 0);
         }
         assert!(nonzero > 14000 && nonzero < 16000, "nonzero {nonzero}");
+    }
+
+    #[test]
+    fn agrees_with_big_integers_on_zeros_and_subnormals() {
+        // Signed zeros among the coordinates (they take no part in the
+        // exponent range) and subnormals (no implicit bit, exponent −1074).
+        let mut rng = TestRng::deterministic_rng(RngAlgorithm::ChaCha);
+        let mut decided = 0;
+        for k in 0..5000 {
+            let mut coord = || match rng.next_u64() % 4 {
+                0 => 0.0,
+                1 => -0.0,
+                2 => f64::from_bits(rng.next_u64() % (1 << 40)) * if k % 2 == 0 { 1.0 } else { -1.0 },
+                _ => f64::from_bits((1 << 52) + rng.next_u64() % (1 << 52)) * if rng.next_u64() % 2 == 0 { 1.0 } else { -1.0 },
+            };
+            let mut pt = || [coord(), coord(), coord()];
+            let (p, q, r, x) = (pt(), pt(), pt(), pt());
+            let Some(got) = orient_det_sign(p, q, r, x) else { continue };
+            assert_eq!(got, reference(p, q, r, x), "case {k}: {p:?} {q:?} {r:?} {x:?}");
+            decided += 1;
+        }
+        assert!(decided > 3000, "decided {decided}");
     }
 
     #[test]
