@@ -270,11 +270,21 @@ pub(crate) fn crop(m: &DMat4, pts: &[DVec3], origin: DVec3) -> Option<Cropped> {
     // Row magnitudes, scaled by the error constants, for the bounds below.
     let abs64 = centred.map(|r| r.abs() * (K * U64));
     let abs32: [DVec4; 4] = std::array::from_fn(|r| rel.row(r).abs() * (K * U32));
+    // NOTE: with the f32 origin at zero both terms weigh the same |p|, so one
+    // dot product of the summed rows replaces two. Both are sums of
+    // non-negative terms; their roundings differ by a few u₆₄, well inside
+    // the 4u₃₂ margin applied below.
+    let at_origin = origin == DVec3::ZERO;
+    let abs_both: [DVec4; 4] = std::array::from_fn(|r| abs64[r] + abs32[r]);
     let mut f32_exact = true;
     for p in pts {
         let (pw, pr) = (h(*p), h(*p - origin));
         let (pwa, pra) = (pw.abs(), pr.abs());
-        let e = |r: usize, with_f32: bool| abs64[r].dot(pwa) + if with_f32 { abs32[r].dot(pra) } else { 0.0 };
+        let e = |r: usize, with_f32: bool| match (with_f32, at_origin) {
+            (false, _) => abs64[r].dot(pwa),
+            (true, true) => abs_both[r].dot(pwa),
+            (true, false) => abs64[r].dot(pwa) + abs32[r].dot(pra),
+        };
         let wv = w.dot(pw);
         let ew32 = e(3, true);
         let use32 = ew32 < 0.5 * wv;

@@ -1054,16 +1054,25 @@ impl CertifiedClipper {
         if on_k + n_new - old_n < 3 {
             return false;
         }
-        // Drop the vertices outside.
-        let mut n = self.sign[..old_n].iter().position(|&s| s > 0).unwrap_or(old_n);
-        for v in n..n_new {
-            if v >= old_n || self.sign[v] <= 0 {
-                self.pos[n] = self.pos[v];
-                self.rad[n] = self.rad[v];
-                self.on[n] = self.on[v];
-                self.is_point[n] = self.is_point[v];
-                n += 1;
+        // Drop the vertices outside: each outside slot, lowest first, takes
+        // the last vertex kept.
+        // NOTE: filling holes from the end moves one vertex per hole, where
+        // shifting everything down moved every vertex after the first hole.
+        let kept = |v: usize, sign: &[i8]| v >= old_n || sign[v] <= 0;
+        let mut n = n_new;
+        for &w in &outside[..n_out] {
+            let w = w as usize;
+            while n > w && !kept(n - 1, &self.sign) {
+                n -= 1;
             }
+            if n <= w {
+                break;
+            }
+            n -= 1;
+            self.pos[w] = self.pos[n];
+            self.rad[w] = self.rad[n];
+            self.on[w] = self.on[n];
+            self.is_point[w] = self.is_point[n];
         }
         self.n_verts = n;
         true

@@ -420,6 +420,7 @@ impl Frustum {
         (self.normals[i], self.abs_normals[i])
     }
 
+    #[inline]
     fn face_plane(&self, i: usize) -> Plane {
         let f = self.face(i);
         Plane::Points([self.corners[f[0] as usize], self.corners[f[1] as usize], self.corners[f[2] as usize]])
@@ -474,17 +475,25 @@ impl Frustum {
         let in_range = self.in_range && in_safe_range(apex.coordinates());
         let mut sees = [false; MAX_FRUSTUM_FACES];
         for (i, seen) in sees.iter_mut().enumerate().take(n) {
-            let f = self.face(i);
-            let [a, b, c] = [self.corners[f[0] as usize], self.corners[f[1] as usize], self.corners[f[2] as usize]];
             let filter = self.face_filter(i);
+            let triangle = || {
+                let f = self.face(i);
+                [self.corners[f[0] as usize], self.corners[f[1] as usize], self.corners[f[2] as usize]]
+            };
             let side = match apex {
                 Apex::Finite(l) => match in_range.then(|| filter.side(l)).flatten() {
                     Some(s) => s,
-                    None => orient_past_static_filter(a, b, c, l, in_range),
+                    None => {
+                        let [a, b, c] = triangle();
+                        orient_past_static_filter(a, b, c, l, in_range)
+                    }
                 },
                 Apex::Infinite(dir) => match in_range.then(|| filter.side_of_direction(dir)).flatten() {
                     Some(s) => s,
-                    None => orient_direction_past_static_filter(a, b, c, dir),
+                    None => {
+                        let [a, b, c] = triangle();
+                        orient_direction_past_static_filter(a, b, c, dir)
+                    }
                 },
             };
             *seen = side > 0;
