@@ -4,19 +4,30 @@
 //! rounding, so the fold test `orient3d(a, b, c, d)` is near zero or zero
 //! every time, and an adaptive predicate ends in its slowest, fully exact
 //! stage (≈ 0.5–1 µs, for the four to six quads of every frustum). Here the
-//! same determinant is evaluated exactly in integers whenever the twelve
-//! coordinates share a narrow exponent range, which is the usual case for
-//! frustum corners; otherwise the caller falls back.
+//! same determinant is evaluated exactly in integers whenever each axis's
+//! four coordinates share a narrow exponent range, which is the usual case
+//! for frustum corners; otherwise the caller falls back.
+//!
+//! Scaling: the determinant of the differences is linear in each axis's
+//! column, so every axis is scaled by its own power of two (its smallest
+//! exponent): the sign is unchanged, and only the spread within an axis
+//! counts.
 //!
 //! Bit budget: every coordinate is `m · 2^e` with `|m| < 2^53`. Scaled by
-//! `2^-e_min` and with `e − e_min ≤ MAX_SPREAD`, it is an integer below
-//! `2^(53 + MAX_SPREAD)` = 2^76; differences stay below 2^77, a 2×2 minor
-//! below 2^155 and the determinant below 2^234. Products are formed from
-//! 39-bit limbs so that every partial sum fits an `i128`, and the sign is
-//! read after carrying the low limbs upward.
+//! its axis's `2^-e_min` and with `e − e_min ≤ MAX_SPREAD`, it is an integer
+//! below `2^(53 + MAX_SPREAD)` = 2^76; differences stay below 2^77, a 2×2
+//! minor below 2^155 and the determinant below 2^234. Products are formed
+//! from 39-bit limbs so that every partial sum fits an `i128`, and the sign
+//! is read after carrying the low limbs upward. With a spread of at most
+//! [`NARROW_SPREAD`] (the common case) the coordinates fit an `i64` and
+//! the minors an `i128`, and a shorter path suffices.
 
-/// Largest exponent spread between the twelve coordinates.
+/// Largest exponent spread between one axis's four coordinates.
 const MAX_SPREAD: i32 = 23;
+
+/// Spread up to which the short path applies: coordinates below 2^61,
+/// differences below 2^62, products and minors below 2^125.
+const NARROW_SPREAD: i32 = 8;
 
 /// Limb width of the split products: a difference below 2^77 splits into
 /// a signed high part below 2^38 and a low part in [0, 2^39).
@@ -71,31 +82,76 @@ fn split(x: f64) -> (i64, i32) {
 
 /// Sign of `det[q − p, r − p, x − p]` (the orientation of `x` against the
 /// plane through `p, q, r`, with the sign convention of a plain
-/// determinant), or `None` when the coordinates span too many binades.
-/// Inputs must be finite.
+/// determinant), or `None` when an axis's coordinates span too many
+/// binades. Inputs must be finite.
 pub(crate) fn orient_det_sign(p: [f64; 3], q: [f64; 3], r: [f64; 3], x: [f64; 3]) -> Option<i8> {
-    let coords = [p[0], p[1], p[2], q[0], q[1], q[2], r[0], r[1], r[2], x[0], x[1], x[2]];
-    let mut mantissa = [0i64; 12];
-    let mut exponent = [0i32; 12];
-    let (mut e_min, mut e_max) = (i32::MAX, i32::MIN);
-    for i in 0..12 {
-        let (m, e) = split(coords[i]);
-        mantissa[i] = m;
-        exponent[i] = e;
-        // Zeros take no part in the exponent range.
-        e_min = e_min.min(if m != 0 { e } else { i32::MAX });
-        e_max = e_max.max(if m != 0 { e } else { i32::MIN });
+    let points = [p, q, r, x];
+    let mut mantissa = [[0i64; 3]; 4];
+    let mut shift = [[0u32; 3]; 4];
+    let mut narrow = true;
+    for axis in 0..3 {
+        let mut exponent = [0i32; 4];
+        let (mut e_min, mut e_max) = (i32::MAX, i32::MIN);
+        for k in 0..4 {
+            let (m, e) = split(points[k][axis]);
+            (mantissa[k][axis], exponent[k]) = (m, e);
+            // Zeros take no part in the exponent range.
+            e_min = e_min.min(if m != 0 { e } else { i32::MAX });
+            e_max = e_max.max(if m != 0 { e } else { i32::MIN });
+        }
+        if e_min == i32::MAX {
+            // Every difference has a zero in this column.
+            return Some(0);
+        }
+        if e_max - e_min > MAX_SPREAD {
+            return None;
+        }
+        narrow &= e_max - e_min <= NARROW_SPREAD;
+        for k in 0..4 {
+            // A zero's shift is clamped; it shifts nothing.
+            shift[k][axis] = (exponent[k] - e_min).max(0) as u32;
+        }
     }
-    if e_min == i32::MAX {
-        return Some(0); // all zero
+    Some(if narrow { narrow_det_sign(&mantissa, &shift) } else { wide_det_sign(&mantissa, &shift) })
+}
+
+/// The determinant's sign when every scaled coordinate is below 2^61.
+///
+/// NOTE: differences are below 2^62, so a minor `b_j c_k − b_k c_j` is an
+/// exact `i128` below 2^125. Each term `a_i · m_i` is split at bit 64 of the
+/// minor: `a·m_hi` stays below 2^123 and `a·m_lo` below 2^126, so the high
+/// sums and the low sums (below 2^66) fit an `i128`.
+fn narrow_det_sign(mantissa: &[[i64; 3]; 4], shift: &[[u32; 3]; 4]) -> i8 {
+    let int: [[i64; 3]; 4] = std::array::from_fn(|k| std::array::from_fn(|axis| mantissa[k][axis] << shift[k][axis]));
+    let diff = |k: usize| [int[k][0] - int[0][0], int[k][1] - int[0][1], int[k][2] - int[0][2]];
+    let (a, b, c) = (diff(1), diff(2), diff(3));
+    let product = |x: i64, y: i64| x as i128 * y as i128;
+    let minors = [
+        product(b[1], c[2]) - product(b[2], c[1]),
+        product(b[2], c[0]) - product(b[0], c[2]),
+        product(b[0], c[1]) - product(b[1], c[0]),
+    ];
+    const LOW: i128 = (1 << 64) - 1;
+    let (mut high, mut low) = (0i128, 0i128);
+    for (ai, m) in a.iter().zip(minors) {
+        let ai = *ai as i128;
+        let low_product = ai * (m & LOW);
+        high += ai * (m >> 64) + (low_product >> 64);
+        low += low_product & LOW;
     }
-    if e_max - e_min > MAX_SPREAD {
-        return None;
+    high += low >> 64;
+    low &= LOW;
+    if high != 0 {
+        high.signum() as i8
+    } else {
+        i8::from(low != 0)
     }
-    // Scaled by 2^-e_min every coordinate is an integer below 2^76, every
-    // difference below 2^77. (A zero's shift is clamped; it shifts nothing.)
-    let int: [i128; 12] = std::array::from_fn(|i| (mantissa[i] as i128) << (exponent[i] - e_min).max(0));
-    let diff = |k: usize| [int[3 * k] - int[0], int[3 * k + 1] - int[1], int[3 * k + 2] - int[2]];
+}
+
+/// The determinant's sign for scaled coordinates below 2^76.
+fn wide_det_sign(mantissa: &[[i64; 3]; 4], shift: &[[u32; 3]; 4]) -> i8 {
+    let int: [[i128; 3]; 4] = std::array::from_fn(|k| std::array::from_fn(|axis| (mantissa[k][axis] as i128) << shift[k][axis]));
+    let diff = |k: usize| [int[k][0] - int[0][0], int[k][1] - int[0][1], int[k][2] - int[0][2]];
     let (a, b, c) = (diff(1), diff(2), diff(3));
     // det = Σ a_i · m_i over the minors of b and c.
     let minors = [minor(b[1], c[2], b[2], c[1]), minor(b[2], c[0], b[0], c[2]), minor(b[0], c[1], b[1], c[0])];
@@ -122,7 +178,11 @@ pub(crate) fn orient_det_sign(p: [f64; 3], q: [f64; 3], r: [f64; 3], x: [f64; 3]
     let carry = t2 >> LIMB;
     t2 -= carry << LIMB;
     t3 += carry;
-    Some(if t3 != 0 { t3.signum() as i8 } else { i8::from((t0 | t1 | t2) != 0) })
+    if t3 != 0 {
+        t3.signum() as i8
+    } else {
+        i8::from((t0 | t1 | t2) != 0)
+    }
 }
 
 #[cfg(test)]
@@ -236,10 +296,42 @@ mod tests {
     }
 
     #[test]
-    fn declines_wide_exponent_ranges() {
+    fn declines_wide_exponent_ranges_within_an_axis() {
         let p = [0.0, 0.0, 0.0];
-        assert_eq!(orient_det_sign(p, [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1e-30]), None);
-        assert_eq!(orient_det_sign(p, [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1e-3]), Some(1));
+        assert_eq!(orient_det_sign(p, [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1e-30, 0.0, 1.0]), None);
+        // Spread across axes is scaled away: each axis has its own exponent.
+        assert_eq!(orient_det_sign(p, [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1e-30]), Some(1));
+        assert_eq!(orient_det_sign(p, [1e200, 0.0, 0.0], [0.0, 1e-200, 0.0], [0.0, 0.0, -1e-30]), Some(-1));
         assert_eq!(orient_det_sign(p, p, p, p), Some(0));
+    }
+
+    #[test]
+    fn agrees_with_big_integers_at_the_edge_of_the_short_path() {
+        // Each axis spans exactly NARROW_SPREAD binades (or NARROW_SPREAD + 1,
+        // just past the short path), full mantissas, both signs, each axis at
+        // its own scale: the largest values the short path must hold.
+        let mut rng = TestRng::deterministic_rng(RngAlgorithm::ChaCha);
+        let mut nonzero = 0;
+        for k in 0..20000 {
+            let spread = NARROW_SPREAD + (k % 2) as i32;
+            let base = [[-40, 0, 90], [7, -300, 12], [0, 0, 0]][k % 3];
+            let mut coord = |axis: usize| {
+                let m = ((1u64 << 52) | (rng.next_u64() >> 12)) as f64;
+                let e = base[axis] + if rng.next_u64() % 2 == 0 { 0 } else { spread };
+                let v = m * 2f64.powi(e - 52);
+                if rng.next_u64() % 2 == 0 { v } else { -v }
+            };
+            let mut pt = || [coord(0), coord(1), coord(2)];
+            let (p, q, r, mut x) = (pt(), pt(), pt(), pt());
+            match k % 5 {
+                1 => x = [f64::from_bits(q[0].to_bits() + 1), q[1], q[2]],
+                2 => x = r,
+                _ => {}
+            }
+            let got = orient_det_sign(p, q, r, x).expect("within the spread");
+            assert_eq!(got, reference(p, q, r, x), "case {k}: {p:?} {q:?} {r:?} {x:?}");
+            nonzero += usize::from(got != 0);
+        }
+        assert!(nonzero > 15000 && nonzero < 17000, "nonzero {nonzero}");
     }
 }
