@@ -825,6 +825,14 @@ impl CertifiedClipper {
             self.is_point[out] = pts;
             return true;
         }
+        // Both ends exact input points (an edge of the hull as built): the
+        // edge is the segment between them, no need to find the line's
+        // defining points through the planes.
+        if self.is_point[u] != 0 && self.is_point[w] != 0 {
+            if let Some((x, rad)) = line_crossing(self.pos[u], self.pos[w] - self.pos[u], true, &self.planes[k]) {
+                return self.place(out, on, x, rad);
+            }
+        }
         if let Some((x, rad)) = self.structured_crossing(common, k) {
             return self.place(out, on, x, rad);
         }
