@@ -399,10 +399,10 @@ fn clip_certified(fast: &mut CertifiedClipper, plan: &Plan, view: &Frustum, ligh
         _ => None,
     };
     let mut step = fast.reset_to_hull(view, light.apex(), &plan.hull, scene, light_frustum);
-    if step == Step::Solid && !plan.scene_clip_skipped {
+    if step == Step::Nonempty && !plan.scene_clip_skipped {
         step = fast.clip_box(scene);
     }
-    if let (Step::Solid, Some(l)) = (step, plan.light_planes()) {
+    if let (Step::Nonempty, Some(l)) = (step, plan.light_planes()) {
         step = fast.clip_set(l, true);
     }
     step
@@ -485,7 +485,7 @@ fn compute_planned(out: &mut Body, plan: &mut Plan, view: &Frustum, light: &Ligh
                 stats.early_exit = true;
                 true
             }
-            Step::Solid => fast.write(out),
+            Step::Nonempty => fast.write(out),
             Step::Uncertain => false,
         };
         stats.planes_cut = fast.cuts;

@@ -280,8 +280,8 @@ fn decide(s: f64, e: f64) -> Option<i8> {
 /// How a clip ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Step {
-    /// The body is solid (cut or not).
-    Solid,
+    /// The body is not empty (cut or not; solid or flat).
+    Nonempty,
     Empty,
     /// A decision floating point could not prove: run the exact engine.
     Uncertain,
@@ -331,6 +331,18 @@ pub(crate) struct CertifiedClipper {
     pub cleared: u16,
     /// The face of S (axis, upper) that closes a directional light's hull.
     closed_by_scene_face: Option<(u8, bool)>,
+    /// Dimension of the body: 3 while solid; 2, 1, 0 once a plane has left
+    /// only a polygon, a segment or a point of it.
+    dim: i8,
+    /// Planes that contain the whole body (none while it is solid).
+    ///
+    /// NOTE: in a flat body every vertex lies on these, so they say nothing
+    /// about adjacency: two vertices of a polygon are adjacent exactly when
+    /// they share another plane (each other plane supports the polygon in an
+    /// edge or a vertex).
+    flat: u64,
+    /// The plane that left a polygon: its outward normal orients the cycle.
+    support: usize,
 }
 
 const DUMMY_PLANE: FloatPlane = FloatPlane {
@@ -369,6 +381,9 @@ impl CertifiedClipper {
             cuts: 0,
             cleared: 0,
             closed_by_scene_face: None,
+            dim: 3,
+            flat: 0,
+            support: 0,
         }
     }
 
@@ -392,6 +407,8 @@ impl CertifiedClipper {
         self.cuts = 0;
         self.cleared = 0;
         self.closed_by_scene_face = None;
+        self.dim = 3;
+        self.flat = 0;
         self.fold_keys = [(NONE, NONE); FOLD_CACHE];
         // NOTE: beneath–beyond takes the frustum's faces as the hull's; when
         // faces are coplanar the hull's faces differ (merged, with corners
@@ -474,7 +491,7 @@ impl CertifiedClipper {
         if closing.is_some() && shadow.iter().filter(|&&v| v != NONE).count() < 3 {
             return Step::Uncertain;
         }
-        Step::Solid
+        Step::Nonempty
     }
 
     /// The vertex for input point `i` (made on first use, exact).
@@ -585,12 +602,12 @@ impl CertifiedClipper {
                 let Some(slot) = self.next_slot() else { return Step::Uncertain };
                 *slot = FloatPlane::axis(axis, upper, value);
                 let step = self.clip();
-                if step != Step::Solid {
+                if step != Step::Nonempty {
                     return step;
                 }
             }
         }
-        Step::Solid
+        Step::Nonempty
     }
 
     /// Per-axis bounds on the vertices' exact positions (`lo ≤ x ≤ hi`), so
@@ -634,11 +651,11 @@ impl CertifiedClipper {
                 continue;
             }
             let step = self.clip();
-            if step != Step::Solid {
+            if step != Step::Nonempty {
                 return step;
             }
         }
-        Step::Solid
+        Step::Nonempty
     }
 
     /// The free slot where [`CertifiedClipper::clip`] takes its plane;
@@ -690,12 +707,22 @@ impl CertifiedClipper {
         let bit = 1u64 << k;
         if pos == 0 {
             // Not cut; remember which vertices the plane touches.
-            // NOTE: a supporting plane through three vertices (never collinear:
-            // all are extreme points) is the plane of a face already there.
-            // Its incidences are left out so that two vertices share two
-            // planes exactly when they span an edge (see `cut`).
+            // NOTE: a supporting plane through three vertices of a solid
+            // (never collinear: all are extreme points) is the plane of a face
+            // already there. Its incidences are left out so that two vertices
+            // share two planes exactly when they span an edge (see `cut`). A
+            // flat body's supporting plane holds an edge, a vertex, or all of
+            // it (then it joins the flat planes).
             let touching = self.sign[..self.n_verts].iter().filter(|&&s| s == 0).count();
-            if touching < 3 {
+            if touching == self.n_verts {
+                if self.dim == 3 {
+                    return Step::Uncertain;
+                }
+                self.flat |= bit;
+            } else if self.dim < 3 && touching > self.dim as usize {
+                return Step::Uncertain;
+            }
+            if touching < 3 || touching == self.n_verts {
                 for v in 0..self.n_verts {
                     if self.sign[v] == 0 {
                         self.on[v] |= bit;
@@ -703,19 +730,57 @@ impl CertifiedClipper {
                 }
             }
             self.n_planes += 1;
-            return Step::Solid;
+            return Step::Nonempty;
         }
         if neg == 0 {
-            // Entirely outside (empty) or touching from outside (flat).
-            return if self.sign[..self.n_verts].contains(&0) { Step::Uncertain } else { Step::Empty };
+            // Entirely outside (empty), or touching from outside: what is
+            // left is the body's face on the plane (flat).
+            return if self.sign[..self.n_verts].contains(&0) { self.flatten(k) } else { Step::Empty };
         }
         self.n_planes += 1;
         self.cuts += 1;
         if self.cut(k) {
-            Step::Solid
+            Step::Nonempty
         } else {
             Step::Uncertain
         }
+    }
+
+    /// Keeps only the vertices on plane `k` (signs in `self.sign`, none
+    /// inside): the body's face on `k`, a polygon, an edge or a vertex.
+    ///
+    /// NOTE: every sign is exact, so these are all of the face's vertices;
+    /// three or more vertices of a solid on one supporting plane are a
+    /// polygon (extreme points, never collinear), and a flat body's face on
+    /// a plane that does not hold all of it has one dimension fewer.
+    fn flatten(&mut self, k: usize) -> Step {
+        let bit = 1u64 << k;
+        let mut n = 0;
+        for v in 0..self.n_verts {
+            if self.sign[v] == 0 {
+                self.pos[n] = self.pos[v];
+                self.rad[n] = self.rad[v];
+                self.on[n] = self.on[v] | bit;
+                self.is_point[n] = self.is_point[v];
+                n += 1;
+            }
+        }
+        let dim = match n {
+            1 => 0,
+            2 => 1,
+            _ => 2,
+        };
+        if dim >= self.dim {
+            return Step::Uncertain;
+        }
+        if dim == 2 {
+            self.support = k;
+        }
+        self.n_verts = n;
+        self.dim = dim;
+        self.flat = self.on[..n].iter().fold(u64::MAX, |all, &on| all & on);
+        self.n_planes += 1;
+        Step::Nonempty
     }
 
     /// Exact sign of vertex `v` against plane `k`, if provable.
@@ -838,6 +903,15 @@ impl CertifiedClipper {
         }
         // A first estimate by interpolation along the edge (the side values
         // need not be certified for this).
+        // NOTE: a polygon's edge lies on its edge plane and on every flat
+        // plane; one flat plane with the edge plane defines the line (two
+        // flat planes may be one plane, as the two faces of a flat box).
+        let flat_common = common & self.flat;
+        let common = if self.dim == 2 && common & !self.flat != 0 && flat_common != 0 {
+            (common & !self.flat) | flat_common & flat_common.wrapping_neg()
+        } else {
+            common
+        };
         let [(su, _), (sw, _)] = self.edge_sides(u, w, k);
         let (a, b) = ((-su).max(0.0), sw.max(0.0));
         let t = if a + b > 0.0 { a / (a + b) } else { 0.5 };
@@ -1020,15 +1094,18 @@ impl CertifiedClipper {
         let bit = 1u64 << k;
         let mut on_k = 0;
         // Inside vertices on each plane, as sets of vertex slots; an outside
-        // vertex's inside neighbours are those in two of its planes' sets.
+        // vertex's inside neighbours are those in two of its planes' sets
+        // (in one, for a polygon: its flat planes are left out).
         // NOTE: only the planes so far are cleared (the set is kept in the
         // clipper): clearing all of it was a 768-byte memset per cut.
         let inside_on = &mut self.inside_on[..=k];
         inside_on.fill(0);
+        let mut inside: VertexSet = 0;
         for v in 0..old_n {
             match self.sign[v] {
                 s if s < 0 => {
-                    for i in bits(self.on[v]) {
+                    inside |= 1 << v;
+                    for i in bits(self.on[v] & !self.flat) {
                         inside_on[i] |= 1 << v;
                     }
                 }
@@ -1045,21 +1122,30 @@ impl CertifiedClipper {
         let mut n_new = old_n;
         for &w in &outside[..n_out] {
             let (mut once, mut twice): (VertexSet, VertexSet) = (0, 0);
-            for i in bits(self.on[w as usize]) {
+            for i in bits(self.on[w as usize] & !self.flat) {
                 twice |= once & self.inside_on[i];
                 once |= self.inside_on[i];
             }
-            while twice != 0 {
-                let u = twice.trailing_zeros() as usize;
-                twice &= twice - 1;
+            let mut near = match self.dim {
+                3 => twice,
+                2 => once,
+                // A segment's other end.
+                _ => inside,
+            };
+            while near != 0 {
+                let u = near.trailing_zeros() as usize;
+                near &= near - 1;
                 if n_new >= CAP_V || !self.crossing(u, w as usize, k, n_new) {
                     return false;
                 }
                 n_new += 1;
             }
         }
-        // The cap is a polygon: at least three vertices on k.
-        if on_k + n_new - old_n < 3 {
+        // The cap of a solid is a polygon: at least three vertices on k; a
+        // polygon's is a chord (two), a segment's a point.
+        let cap = on_k + n_new - old_n;
+        let dim = self.dim as usize;
+        if cap < dim || (dim < 3 && cap != dim) {
             return false;
         }
         // Drop the vertices outside: each outside slot, lowest first, takes
@@ -1113,6 +1199,9 @@ impl CertifiedClipper {
                 return false;
             }
         }
+        if self.dim < 3 {
+            return self.write_flat(out);
+        }
         // Each plane's vertices as a vertex set; planes with three or more
         // carry a face.
         let np = self.n_planes;
@@ -1138,7 +1227,7 @@ impl CertifiedClipper {
             }
             let cycle = &out.idx[ni..ni + m];
             let Ok(neighbour) = self.reversed_by_neighbour(p, cycle, out, &face_of_plane) else { return false };
-            let Some(reverse) = neighbour.or_else(|| self.reversed_by_geometry(p, cycle)) else { return false };
+            let Some(reverse) = neighbour.or_else(|| self.reversed_by_geometry(p, !(1 << p), cycle)) else { return false };
             if reverse {
                 out.idx[ni + 1..ni + m].reverse();
             }
@@ -1163,6 +1252,70 @@ impl CertifiedClipper {
         out.n_verts = self.n_verts;
         out.face_start[nf] = ni as u16;
         out.n_faces = nf;
+        true
+    }
+
+    /// Writes a flat body (vertices checked by `write`): a point, a segment,
+    /// or a polygon whose cycle runs counter-clockwise seen from the side its
+    /// face plane's normal (the outward normal of the plane that left it)
+    /// points to. False when the cycle does not close or its orientation is
+    /// not proven.
+    fn write_flat(&mut self, out: &mut Body) -> bool {
+        out.clear();
+        let n = self.n_verts;
+        if self.dim == 2 {
+            if !(3..=MAX_FACE_INDICES).contains(&n) {
+                return false;
+            }
+            // Adjacent vertices share a plane besides the flat ones.
+            let edges = !self.flat;
+            let members = &mut self.plane_members[..self.n_planes];
+            members.fill(0);
+            for v in 0..n {
+                for p in bits(self.on[v] & edges) {
+                    members[p] |= 1 << v;
+                }
+            }
+            let (mut prev, mut cur) = (0, 0);
+            let mut placed: VertexSet = 1;
+            out.idx[0] = 0;
+            for slot in 1..n {
+                let mut near: VertexSet = 0;
+                for q in bits(self.on[cur] & edges) {
+                    near |= self.plane_members[q];
+                }
+                let near = near & !(1 << cur) & !(1 << prev);
+                if near == 0 || placed & near & near.wrapping_neg() != 0 {
+                    return false;
+                }
+                let next = near.trailing_zeros() as usize;
+                placed |= 1 << next;
+                out.idx[slot] = next as u16;
+                (prev, cur) = (cur, next);
+            }
+            if self.on[cur] & self.on[0] & edges == 0 {
+                return false;
+            }
+            let Some(reverse) = self.reversed_by_geometry(self.support, edges, &out.idx[..n]) else { return false };
+            if reverse {
+                out.idx[1..n].reverse();
+            }
+            // The vertices in cycle order, as the exact engine lists them.
+            for i in 0..n {
+                out.verts[i] = self.pos[out.idx[i] as usize] + DVec3::ZERO;
+                out.idx[i] = i as u16;
+            }
+            out.face_start[0] = 0;
+            out.face_start[1] = n as u16;
+            out.face_planes[0] = self.planes[self.support].approximate();
+            out.n_faces = 1;
+        } else {
+            for v in 0..n {
+                out.verts[v] = self.pos[v] + DVec3::ZERO;
+            }
+        }
+        out.n_verts = n;
+        out.dim = self.dim;
         true
     }
 
@@ -1279,9 +1432,10 @@ impl CertifiedClipper {
     /// Whether the chained cycle of plane `p`'s face must be reversed to run
     /// counter-clockwise from outside, proven from the planes' normals or the
     /// face's area vector.
-    fn reversed_by_geometry(&self, p: usize, cycle: &[u16]) -> Option<bool> {
+    /// `others`: the planes that can hold an edge (all but `p` for a solid's
+    /// face, all but the flat planes for a polygon).
+    fn reversed_by_geometry(&self, p: usize, others: u64, cycle: &[u16]) -> Option<bool> {
         let m = cycle.len();
-        let others = !(1u64 << p);
         // NOTE: at a vertex v with neighbours a (next) and b (previous), the
         // edge v → a runs along planes p and i, into the inner side of j (the
         // plane of edge v → b), and likewise with i and j swapped. Writing

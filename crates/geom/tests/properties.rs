@@ -942,6 +942,9 @@ fn check_well_formed(c: &Case, body: &Body) -> Result<(), TestCaseError> {
             let diameter = verts.iter().map(|v| (*v - centre).length()).fold(0.0, f64::max) * 2.0;
             if newell.length() > 1e6 * tol * diameter {
                 let nrm = newell.normalize();
+                // Counter-clockwise seen from the side the face plane's
+                // normal points to.
+                prop_assert!(nrm.dot(plane.truncate()) > 0.5, "polygon runs clockwise about its face plane's normal: {:?}", body);
                 for k in 0..n {
                     let (a, b) = (verts[f[k] as usize], verts[f[(k + 1) % n] as usize]);
                     let len = (b - a).length();
