@@ -350,3 +350,31 @@ fn a_body_with_many_vertices_stays_on_the_float_path() {
     assert_eq!(body.vertices().len(), 42);
     assert_float_path_matches_exact_engine(&body, &view, &spot, &scene);
 }
+
+/// Flat results stay on the float path, with the exact engine's dimension,
+/// vertex count and face sizes: a zero-thickness scene (a ground plane
+/// through V: a polygon, with its two box faces one plane), a scene whose
+/// face touches V along an edge of V's far face (a segment) and one that
+/// touches V in a far corner only (a point). Each would fail if flat bodies
+/// went back to the exact engine, or came out with another shape.
+#[test]
+fn flat_bodies_stay_on_the_float_path() {
+    let view = simple_view(); // near z = −1 (half-width 1), far z = −8 (half-width 8)
+    let sun = Light::directional(DVec3::new(0.25, -1.0, 0.125)).unwrap();
+    let ground = Aabb::new(DVec3::new(-50.0, 0.0, -50.0), DVec3::new(50.0, 0.0, 50.0)).unwrap();
+    // The far face's top edge lies in y = 8; the corner (8, 8, −8) is the
+    // only point of V with x ≥ 8 and y ≥ 8.
+    let edge = Aabb::new(DVec3::new(-50.0, 8.0, -50.0), DVec3::new(50.0, 20.0, -8.0)).unwrap();
+    let corner = Aabb::new(DVec3::new(8.0, 8.0, -50.0), DVec3::new(20.0, 20.0, -8.0)).unwrap();
+    // Travelling along −z: V swept toward +z, so nothing beyond the far
+    // face (z < −8) but the far face itself.
+    let behind = Light::directional(DVec3::new(0.0, 0.0, -1.0)).unwrap();
+    for (scene, light, dim, verts) in [(ground, sun, Dimension::Polygon, None), (edge, behind, Dimension::Segment, Some(2)), (corner, behind, Dimension::Point, Some(1))] {
+        let body = focus_body(&view, &light, &scene).unwrap();
+        assert_eq!(body.dimension(), dim, "{body:?}");
+        if let Some(n) = verts {
+            assert_eq!(body.vertices().len(), n);
+        }
+        assert_float_path_matches_exact_engine(&body, &view, &light, &scene);
+    }
+}
