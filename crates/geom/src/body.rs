@@ -414,8 +414,8 @@ fn clip_certified(fast: &mut CertifiedClipper, plan: &Plan, view: &Frustum, ligh
 /// Every case first runs a floating-point clipper whose every sign is
 /// proven by an error bound, and whose output coordinates are proven within
 /// [`crate::ROUNDING_ULPS`] of the exact ones; when a bound cannot prove a
-/// decision (exact coincidences such as a scene face through a frustum
-/// corner, flat results, near-degenerate input) the case is computed again by
+/// decision (coincidences the construction does not explain, such as a
+/// light in a frustum face's plane, or near-degenerate input) the case is computed again by
 /// the exact engine. Both give the same exact body; [`FocusStats::float_path`]
 /// says which one answered.
 ///

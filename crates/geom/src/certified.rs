@@ -31,8 +31,12 @@
 //!
 //! Degenerate vertices (on more than three planes) are allowed: the clipper
 //! keeps, per vertex, the set of planes it lies on, and clips through
-//! on-plane vertices without creating new ones. A result that would be flat
-//! goes to the exact engine.
+//! on-plane vertices without creating new ones.
+//!
+//! Flat results are exact coincidences too: a plane that leaves nothing
+//! strictly inside leaves the body's face on it (its vertices, whose zero
+//! signs are exact), a polygon, a segment or a point, which later planes
+//! clip like a solid with one dimension fewer.
 
 use crate::body::{Aabb, Body};
 use crate::frustum::{abs_cross, creased_pair, Apex, Frustum, Origin, PlaneSet};

@@ -8,7 +8,7 @@
 //! inputs: every side-of-plane, coplanarity, emptiness and flatness decision
 //! is the exact one. A case first runs a floating-point clipper in which
 //! every sign and every vertex carries a proven error bound; whatever that
-//! cannot prove (exact coincidences, near-degenerate input, flat results)
+//! cannot prove (coincidences it does not explain, near-degenerate input)
 //! goes to an exact engine of filtered predicates with a big-integer
 //! fallback and unrounded vertices. Output vertices are within
 //! [`ROUNDING_ULPS`] of the exact ones.
