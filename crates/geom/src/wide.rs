@@ -260,24 +260,26 @@ mod tests {
         assert!(decided > 15000 && zeros > 1000, "decided {decided}, zeros {zeros}");
     }
 
-    #[test]
-    fn agrees_with_big_integers_at_the_edge_of_its_bit_budget() {
-        // Full 53-bit mantissas, both signs, exponents exactly MAX_SPREAD
-        // apart: the largest differences, minors and determinants the limbs
-        // must hold, and their carries.
+    /// A random full 53-bit mantissa in binade `e`, either sign.
+    fn full_mantissa(rng: &mut TestRng, e: i32) -> f64 {
+        let v = ((1u64 << 52) | (rng.next_u64() >> 12)) as f64 * 2f64.powi(e - 52);
+        if rng.next_u64() % 2 == 0 { v } else { -v }
+    }
+
+    /// 20000 cases whose coordinates on each axis sit in binade `base(k)[axis]`
+    /// or `spread(k)` binades above, near and exactly coplanar too (a last
+    /// point one ulp off `q`, or `q` itself): every sign must be the big
+    /// integers'. Returns how many were nonzero.
+    fn agreement_at_spread(base: impl Fn(usize) -> [i32; 3], spread: impl Fn(usize) -> i32) -> usize {
         let mut rng = TestRng::deterministic_rng(RngAlgorithm::ChaCha);
         let mut nonzero = 0;
         for k in 0..20000 {
-            let base = [-60, 0, 300][k % 3];
-            let mut coord = || {
-                let m = ((1u64 << 52) | (rng.next_u64() >> 12)) as f64;
-                let e = base + if rng.next_u64() % 2 == 0 { 0 } else { MAX_SPREAD };
-                let v = m * 2f64.powi(e - 52);
-                if rng.next_u64() % 2 == 0 { v } else { -v }
-            };
-            let mut pt = || [coord(), coord(), coord()];
+            let (base, spread) = (base(k), spread(k));
+            let mut pt = || [0, 1, 2].map(|axis| {
+                let up = if rng.next_u64() % 2 == 0 { 0 } else { spread };
+                full_mantissa(&mut rng, base[axis] + up)
+            });
             let (p, q, r, mut x) = (pt(), pt(), pt(), pt());
-            // Near and exactly coplanar too: a corner one ulp off q, or q.
             match k % 4 {
                 1 => x = [f64::from_bits(q[0].to_bits() + 1), q[1], q[2]],
                 2 => x = q,
@@ -287,6 +289,23 @@ mod tests {
             assert_eq!(got, reference(p, q, r, x), "case {k}: {p:?} {q:?} {r:?} {x:?}");
             nonzero += usize::from(got != 0);
         }
+        nonzero
+    }
+
+    #[test]
+    fn agrees_with_big_integers_at_the_edge_of_its_bit_budget() {
+        // Exponents MAX_SPREAD apart on every axis: the largest differences,
+        // minors and determinants the limbs must hold, and their carries.
+        let nonzero = agreement_at_spread(|k| [[-60; 3], [0; 3], [300; 3]][k % 3], |_| MAX_SPREAD);
+        assert!(nonzero > 14000 && nonzero < 16000, "nonzero {nonzero}");
+    }
+
+    #[test]
+    fn agrees_with_big_integers_at_the_edge_of_the_short_path() {
+        // Each axis spans exactly NARROW_SPREAD binades (or one more, just
+        // past the short path), each axis at its own scale: the largest
+        // values the short path must hold.
+        let nonzero = agreement_at_spread(|k| [[-40, 0, 90], [7, -300, 12], [0, 0, 0]][k % 3], |k| NARROW_SPREAD + (k % 2) as i32);
         assert!(nonzero > 14000 && nonzero < 16000, "nonzero {nonzero}");
     }
 
@@ -328,35 +347,5 @@ mod tests {
         assert_eq!(orient_det_sign(p, [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1e-30]), Some(1));
         assert_eq!(orient_det_sign(p, [1e200, 0.0, 0.0], [0.0, 1e-200, 0.0], [0.0, 0.0, -1e-30]), Some(-1));
         assert_eq!(orient_det_sign(p, p, p, p), Some(0));
-    }
-
-    #[test]
-    fn agrees_with_big_integers_at_the_edge_of_the_short_path() {
-        // Each axis spans exactly NARROW_SPREAD binades (or NARROW_SPREAD + 1,
-        // just past the short path), full mantissas, both signs, each axis at
-        // its own scale: the largest values the short path must hold.
-        let mut rng = TestRng::deterministic_rng(RngAlgorithm::ChaCha);
-        let mut nonzero = 0;
-        for k in 0..20000 {
-            let spread = NARROW_SPREAD + (k % 2) as i32;
-            let base = [[-40, 0, 90], [7, -300, 12], [0, 0, 0]][k % 3];
-            let mut coord = |axis: usize| {
-                let m = ((1u64 << 52) | (rng.next_u64() >> 12)) as f64;
-                let e = base[axis] + if rng.next_u64() % 2 == 0 { 0 } else { spread };
-                let v = m * 2f64.powi(e - 52);
-                if rng.next_u64() % 2 == 0 { v } else { -v }
-            };
-            let mut pt = || [coord(0), coord(1), coord(2)];
-            let (p, q, r, mut x) = (pt(), pt(), pt(), pt());
-            match k % 5 {
-                1 => x = [f64::from_bits(q[0].to_bits() + 1), q[1], q[2]],
-                2 => x = r,
-                _ => {}
-            }
-            let got = orient_det_sign(p, q, r, x).expect("within the spread");
-            assert_eq!(got, reference(p, q, r, x), "case {k}: {p:?} {q:?} {r:?} {x:?}");
-            nonzero += usize::from(got != 0);
-        }
-        assert!(nonzero > 15000 && nonzero < 17000, "nonzero {nonzero}");
     }
 }
