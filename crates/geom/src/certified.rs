@@ -172,9 +172,13 @@ impl FloatPlane {
             let s = if self.upper { 1.0 } else { -1.0 };
             return self.n.extend(-s * self.value);
         }
+        // NOTE: one division for the four coefficients: the output plane is
+        // a rounded one, and a product by the reciprocal is one rounding more
+        // (an ulp), against four divisions' latency per face.
         let len = self.n.length();
-        if len > 0.0 && len.is_finite() && self.en.max_element() <= len * 2f64.powi(-40) {
-            return (self.n / len).extend((self.offset - self.n.dot(self.anchor)) / len);
+        let inv = 1.0 / len;
+        if len > 0.0 && len.is_finite() && inv.is_finite() && self.en.max_element() <= len * 2f64.powi(-40) {
+            return (self.n * inv).extend((self.offset - self.n.dot(self.anchor)) * inv);
         }
         self.src.approximate()
     }
