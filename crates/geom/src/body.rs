@@ -177,7 +177,8 @@ pub struct Body {
     /// The inputs of the last computation, valid when `inputs_valid`.
     ///
     /// NOTE: overwritten in place, field by field: assigning a fresh
-    /// `Some((…))` built the ~700-byte tuple on the stack and copied it again.
+    /// `Some((…))` built the tuple (kilobytes: two frusta with a spot light)
+    /// on the stack and copied it again.
     inputs: Option<(Frustum, Light, Aabb)>,
     inputs_valid: bool,
 }

@@ -414,8 +414,9 @@ impl Frustum {
         FaceFilter { p: self.corners[self.faces[i][0] as usize], normal: self.normals[i], abs_normal: self.abs_normals[i] }
     }
 
-    /// Face `i`'s plane as `Plane::Points` and its cross product `(q − p) ×
-    /// (r − p)` with absolute values: what the float path builds it from.
+    /// The cross product `(q − p) × (r − p)` behind face `i`'s plane (as
+    /// `Plane::Points([p, q, r])`), and the same with absolute values: what
+    /// the float path builds the plane from.
     pub(crate) fn face_normal(&self, i: usize) -> (DVec3, DVec3) {
         (self.normals[i], self.abs_normals[i])
     }
