@@ -103,7 +103,7 @@ pub(crate) fn orient_det_sign(p: [f64; 3], q: [f64; 3], r: [f64; 3], x: [f64; 3]
         }
         // The scale 2^-e must be a normal f64: e ≥ −1022.
         let e = unit_exponent(smallest);
-        if !(smallest >= f64::MIN_POSITIVE) || e < -1022 {
+        if smallest < f64::MIN_POSITIVE || e < -1022 {
             return None;
         }
         let spread = unit_exponent(largest) - e;
