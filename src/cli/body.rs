@@ -145,8 +145,8 @@ pub fn bench(input: impl BufRead) -> std::io::Result<Value> {
 mod tests {
     use super::*;
 
-    /// The scene fixtures mix both kinds: touching and flat cases go to the
-    /// exact engine, the rest are answered by the float path.
+    /// The scene fixtures mix both kinds: a few coincidences go to the exact
+    /// engine, the rest (flat bodies included) are answered by the float path.
     #[test]
     fn float_path_cases_keeps_exactly_the_cases_the_float_path_answers() {
         let path = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/cases/scene.jsonl");

@@ -125,7 +125,7 @@ pub fn run(input: impl BufRead, mut out: impl Write, settings: &FocusSettings) -
 /// `--bench`: per-case median time of a whole fit (bodies included).
 pub fn bench(input: impl BufRead, settings: &FocusSettings) -> std::io::Result<Value> {
     let mut cases = Vec::new();
-    for line in input.lines() {
+    for line in case_lines(input) {
         let line = line?;
         if let Ok(c) = parse_case(&line) {
             if let Ok(cam) = case_camera(&c) {

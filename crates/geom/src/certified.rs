@@ -103,20 +103,30 @@ impl FloatPlane {
         let general = |n: DVec3, en: DVec3, anchor: DVec3, offset: f64| FloatPlane::general(src, n, en, anchor, offset, through);
         match src {
             Plane::Axis { axis, upper, value } => FloatPlane { through, ..FloatPlane::axis(axis, upper, value) },
-            // NOTE: a cross-product component is ã·b̃ − ã′·b̃′ over rounded
-            // differences: each product is off by 2u (its two differences)
-            // plus u (its rounding), the subtraction by u of the result, so
-            // |ñ − n| ≤ 4u·(|ã·b̃| + |ã′·b̃′|); with an exact direction, 3u.
             Plane::Points([p, q, r]) => {
                 let (a, b) = (q - p, r - p);
-                general(a.cross(b), abs_cross(a, b) * (4.0 * U * SLACK), p, 0.0)
+                FloatPlane::through_points(src, p, a.cross(b), abs_cross(a, b), through)
             }
+            // NOTE: as in `through_points`, with an exact direction: 3u.
             Plane::PointsDirection { p, q, direction } => {
                 let a = q - p;
                 general(a.cross(direction), abs_cross(a, direction) * (3.0 * U * SLACK), p, 0.0)
             }
             Plane::Coefficients { normal, offset } => general(normal, DVec3::ZERO, DVec3::ZERO, offset),
         }
+    }
+
+    /// The plane `src` = `Plane::Points([p, q, r])` from its cross product
+    /// `(q − p) × (r − p)` and the same with absolute values (computed here,
+    /// or stored by the frustum that validated the face).
+    ///
+    /// NOTE: a cross-product component is ã·b̃ − ã′·b̃′ over rounded
+    /// differences: each product is off by 2u (its two differences) plus u
+    /// (its rounding), the subtraction by u of the result, so
+    /// |ñ − n| ≤ 4u·(|ã·b̃| + |ã′·b̃′|).
+    #[inline(always)]
+    fn through_points(src: Plane, p: DVec3, cross: DVec3, abs_cross: DVec3, through: u32) -> FloatPlane {
+        FloatPlane::general(src, cross, abs_cross * (4.0 * U * SLACK), p, 0.0, through)
     }
 
     /// `x[axis] ≤ value` (`upper`) or `≥ value`: exact, through no input point.
@@ -447,9 +457,9 @@ impl CertifiedClipper {
         for (p, ((&plane, &through), origin)) in hull.as_slice().iter().zip(hull.through()).zip(hull.origins()).enumerate() {
             self.planes[p] = match (plane, *origin) {
                 // The frustum computed this cross product when it was validated.
-                (Plane::Points([anchor, ..]), Origin::Face(f)) => {
+                (Plane::Points([p, ..]), Origin::Face(f)) => {
                     let (n, abs_n) = view.face_normal(f as usize);
-                    FloatPlane::general(plane, n, abs_n * (4.0 * U * SLACK), anchor, 0.0, through)
+                    FloatPlane::through_points(plane, p, n, abs_n, through)
                 }
                 _ => FloatPlane::new(plane, through),
             };
@@ -754,6 +764,14 @@ impl CertifiedClipper {
         }
     }
 
+    /// Copies vertex slot `from` into slot `to`.
+    fn move_vertex(&mut self, from: usize, to: usize) {
+        self.pos[to] = self.pos[from];
+        self.rad[to] = self.rad[from];
+        self.on[to] = self.on[from];
+        self.is_point[to] = self.is_point[from];
+    }
+
     /// Keeps only the vertices on plane `k` (signs in `self.sign`, none
     /// inside): the body's face on `k`, a polygon, an edge or a vertex.
     ///
@@ -766,10 +784,8 @@ impl CertifiedClipper {
         let mut n = 0;
         for v in 0..self.n_verts {
             if self.sign[v] == 0 {
-                self.pos[n] = self.pos[v];
-                self.rad[n] = self.rad[v];
-                self.on[n] = self.on[v] | bit;
-                self.is_point[n] = self.is_point[v];
+                self.move_vertex(v, n);
+                self.on[n] |= bit;
                 n += 1;
             }
         }
@@ -1171,10 +1187,7 @@ impl CertifiedClipper {
                 break;
             }
             n -= 1;
-            self.pos[w] = self.pos[n];
-            self.rad[w] = self.rad[n];
-            self.on[w] = self.on[n];
-            self.is_point[w] = self.is_point[n];
+            self.move_vertex(n, w);
         }
         self.n_verts = n;
         true
@@ -1230,7 +1243,7 @@ impl CertifiedClipper {
             if m < 3 {
                 continue;
             }
-            if ni + m > MAX_FACE_INDICES || self.face_cycle(p, m, &mut out.idx[ni..ni + m]).is_none() {
+            if ni + m > MAX_FACE_INDICES || self.face_cycle(self.plane_members[p], !(1 << p), m, &mut out.idx[ni..ni + m]).is_none() {
                 return false;
             }
             let cycle = &out.idx[ni..ni + m];
@@ -1284,24 +1297,8 @@ impl CertifiedClipper {
                     members[p] |= 1 << v;
                 }
             }
-            let (mut prev, mut cur) = (0, 0);
-            let mut placed: VertexSet = 1;
-            out.idx[0] = 0;
-            for slot in 1..n {
-                let mut near: VertexSet = 0;
-                for q in bits(self.on[cur] & edges) {
-                    near |= self.plane_members[q];
-                }
-                let near = near & !(1 << cur) & !(1 << prev);
-                if near == 0 || placed & near & near.wrapping_neg() != 0 {
-                    return false;
-                }
-                let next = near.trailing_zeros() as usize;
-                placed |= 1 << next;
-                out.idx[slot] = next as u16;
-                (prev, cur) = (cur, next);
-            }
-            if self.on[cur] & self.on[0] & edges == 0 {
+            let all: VertexSet = u64::MAX >> (64 - n);
+            if self.face_cycle(all, edges, n, &mut out.idx[..n]).is_none() {
                 return false;
             }
             let Some(reverse) = self.reversed_by_geometry(self.support, edges, &out.idx[..n]) else { return false };
@@ -1362,22 +1359,22 @@ impl CertifiedClipper {
         })
     }
 
-    /// Writes the `m` vertices of plane `p`'s face into `cycle`, chained
-    /// through the edges (pairs on two common planes) in either direction;
-    /// `None` when the chain does not close. Needs `plane_members`.
-    fn face_cycle(&self, p: usize, m: usize, cycle: &mut [u16]) -> Option<()> {
+    /// Writes the `m` vertices of `face` (a vertex set) into `cycle`,
+    /// chained through its edges in either direction; `None` when the chain
+    /// does not close. Two vertices of the face are adjacent when they share
+    /// a plane of `others` (all planes but the face's own for a solid's face,
+    /// all but the flat planes for a polygon). Needs `plane_members` for
+    /// those planes.
+    fn face_cycle(&self, face: VertexSet, others: u64, m: usize, cycle: &mut [u16]) -> Option<()> {
         // NOTE: each edge of a face lies on a different other plane, so a
         // face has fewer vertices than there are planes; more means the
         // incidences are broken.
         if m >= MAX_FAST_PLANES {
             return None;
         }
-        let face = self.plane_members[p];
-        let others = !(1u64 << p);
-        // Two vertices of the face are adjacent when they share a plane
-        // besides p: the current vertex's neighbours are the face's vertices
-        // on its other planes. Each step takes the lowest one that is neither
-        // the vertex itself nor the one it came from.
+        // The current vertex's neighbours are the face's vertices on its
+        // other planes. Each step takes the lowest one that is neither the
+        // vertex itself nor the one it came from.
         let first = face.trailing_zeros() as usize;
         let (mut prev, mut cur) = (first, first);
         let mut placed: VertexSet = 1 << first;
