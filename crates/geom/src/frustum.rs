@@ -158,6 +158,24 @@ const QUAD_MASKS: [u32; 6] = {
     masks
 };
 
+/// Per quad of [`QUADS`], the four corners not on it.
+const QUAD_OTHERS: [[u8; 4]; 6] = {
+    let mut others = [[0; 4]; 6];
+    let mut q = 0;
+    while q < 6 {
+        let (mut c, mut n) = (0, 0);
+        while c < 8 {
+            if QUAD_MASKS[q] & 1 << c == 0 {
+                others[q][n] = c as u8;
+                n += 1;
+            }
+            c += 1;
+        }
+        q += 1;
+    }
+    others
+};
+
 fn corner_bits(idx: &[u8]) -> u32 {
     idx.iter().fold(0, |m, &i| m | 1 << i)
 }
@@ -329,11 +347,11 @@ impl Frustum {
             return Err(GeomError::DegenerateFrustum { what, reason: "all corners are coplanar" });
         }
         let mut f = Frustum { corners, faces: [[0; 4]; MAX_FRUSTUM_FACES], faces_len: [0; MAX_FRUSTUM_FACES], n_faces: 0, coplanar_faces: false, in_range, edge_face: [[u8::MAX; 8]; 8], normals: [DVec3::ZERO; MAX_FRUSTUM_FACES], abs_normals: [DVec3::ZERO; MAX_FRUSTUM_FACES] };
-        // Per face: the corners of the quad it comes from.
-        let mut quad_corners = [0u8; MAX_FRUSTUM_FACES];
-        for quad in QUADS {
+        // Per face: the corners off the quad it comes from.
+        let mut off_quad = [[0u8; 4]; MAX_FRUSTUM_FACES];
+        for (quad, others) in QUADS.iter().zip(QUAD_OTHERS) {
             // A left-handed corner order mirrors every face: reverse the cycles.
-            let [a, b, c, d] = if hand < 0 { quad } else { [quad[0], quad[3], quad[2], quad[1]] };
+            let [a, b, c, d] = if hand < 0 { *quad } else { [quad[0], quad[3], quad[2], quad[1]] };
             let p = |i: u8| corners[i as usize];
             let first = f.n_faces as usize;
             // Fold along the diagonal that keeps the surface convex: if d is
@@ -349,7 +367,7 @@ impl Frustum {
                     f.push_face(&[b, c, d]);
                 }
             }
-            quad_corners[first..f.n_faces as usize].fill(corner_bits(&quad) as u8);
+            off_quad[first..f.n_faces as usize].fill(others);
         }
         // Convexity: every face plane has all corners on its closed inner
         // side and at least one strictly inside (no flat or twisted hull).
@@ -361,11 +379,10 @@ impl Frustum {
             let plane = FaceFilter::new(a, b, c);
             (f.normals[i], f.abs_normals[i]) = (plane.normal, plane.abs_normal);
             let mut strictly_inside = false;
-            for (k, &x) in corners.iter().enumerate() {
-                if quad_corners[i] & 1 << k != 0 {
-                    continue;
-                }
-                let s = in_range.then(|| plane.side(x)).flatten().unwrap_or_else(|| orient(a, b, c, x));
+            for k in off_quad[i] {
+                let x = corners[k as usize];
+                let filtered = if in_range { plane.side(x) } else { None };
+                let s = filtered.unwrap_or_else(|| orient_past_static_filter(a, b, c, x, in_range));
                 if s > 0 {
                     return Err(GeomError::DegenerateFrustum { what, reason: "corners are not in convex position (twisted or non-convex frustum)" });
                 }
