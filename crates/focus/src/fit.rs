@@ -28,11 +28,7 @@ pub fn fit(camera: &Camera, light: &Light, scene: &Aabb, settings: &FocusSetting
     settings.validate()?;
     let basis = camera.basis()?;
     let scene = Aabb::new(scene.min, scene.max)?;
-    let light = match *light {
-        Light::Directional { direction } => Light::directional(direction)?,
-        Light::Point { position } => Light::point(position)?,
-        Light::Spot { position, frustum } => Light::spot(position, frustum)?,
-    };
+    light.validate()?;
     let mut cam = *camera;
     if settings.method == Method::Psm {
         // The engine's tightened visible range (see `PsmSettings`).
@@ -54,20 +50,23 @@ pub fn fit(camera: &Camera, light: &Light, scene: &Aabb, settings: &FocusSetting
             map.split = i;
             map.face = None;
             map.split_range = [z0, z1];
-            map.light = light;
+            set_light(&mut map.light, light);
             map.set_empty();
             map.body_valid = false;
             continue;
         }
         let sub = Camera { near: z0, far: z1, ..cam };
-        let view = Frustum::from_camera_in(&sub, &basis)?;
+        // NOTE: borrowed from the result rather than moved out of it (a
+        // frustum is ~900 bytes).
+        let view = &Frustum::from_camera_in(&sub, &basis);
+        let view = view.as_ref().map_err(|e| e.clone())?;
         let sv = SplitView { camera: &sub, basis, settings };
-        match light {
-            Light::Point { position } => point_maps(out, &sv, &view, position, &scene, i)?,
+        match *light {
+            Light::Point { position } => point_maps(out, &sv, view, position, &scene, i)?,
             _ => {
                 let map = push(out)?;
                 begin(map, &sv, i, None, light);
-                focus_body_into(&mut map.body, &view, &light, &scene)?;
+                focus_body_into(&mut map.body, view, light, &scene)?;
                 map.body_valid = true;
                 if !finish(map, &sv) {
                     return Err(FocusError::NoSingleProjection { reason: "the light's apex is not outside the body (a spot position inconsistent with its frustum?)" });
@@ -75,7 +74,7 @@ pub fn fit(camera: &Camera, light: &Light, scene: &Aabb, settings: &FocusSetting
             }
         }
     }
-    plan(out, settings, &light, &scene);
+    plan(out, settings, light, &scene);
     Ok(())
 }
 
@@ -83,15 +82,27 @@ fn push(out: &mut FocusResult) -> Result<&mut ShadowMap, FocusError> {
     out.push().ok_or(FocusError::Capacity { what: "shadow maps" })
 }
 
-fn begin(map: &mut ShadowMap, sv: &SplitView, split: usize, face: Option<CubeFace>, light: Light) {
+fn begin(map: &mut ShadowMap, sv: &SplitView, split: usize, face: Option<CubeFace>, light: &Light) {
     map.split = split;
     map.face = face;
     map.split_range = [sv.camera.near, sv.camera.far];
-    map.light = light;
+    set_light(&mut map.light, light);
     map.psm_shift = 0.0;
     map.warp_near = f64::INFINITY;
     map.method = sv.settings.method;
     map.flags = 0;
+}
+
+/// `*dst = *src`, writing only the fields of `src`'s kind.
+///
+/// NOTE: a plain assignment copies a whole `Light`, the size of a spot
+/// light's validated frustum (~900 bytes), even for a directional light.
+fn set_light(dst: &mut Light, src: &Light) {
+    match *src {
+        Light::Directional { direction } => *dst = Light::Directional { direction },
+        Light::Point { position } => *dst = Light::Point { position },
+        Light::Spot { .. } => *dst = *src,
+    }
 }
 
 /// Fits the map's (already computed) body; `false` if no single projection
@@ -188,7 +199,7 @@ fn point_maps(out: &mut FocusResult, sv: &SplitView, view: &Frustum, l: DVec3, s
     }
     let light = Light::Point { position: l };
     let map = push(out)?;
-    begin(map, sv, split, None, light);
+    begin(map, sv, split, None, &light);
     focus_body_into(&mut map.body, view, &light, scene)?;
     map.body_valid = true;
     if map.body.is_empty() {
@@ -314,7 +325,7 @@ fn cube_faces(out: &mut FocusResult, sv: &SplitView, view: &Frustum, l: DVec3, s
         }
         far *= 1.0 + CONE_MARGIN;
         let map = push(out)?;
-        begin(map, sv, split, Some(face), Light::Point { position: l });
+        begin(map, sv, split, Some(face), &Light::Point { position: l });
         if !(far > near) {
             map.set_empty();
             map.body_valid = false;

@@ -79,7 +79,9 @@ impl Light {
         Ok(l)
     }
 
-    pub(crate) fn validate(&self) -> Result<(), GeomError> {
+    /// Checks a light built from its fields: finite numbers, a nonzero
+    /// direction (a spot light's frustum is valid by construction).
+    pub fn validate(&self) -> Result<(), GeomError> {
         match *self {
             Light::Directional { direction } => {
                 check_finite(direction, "light direction")?;
@@ -175,12 +177,32 @@ pub struct Body {
     fast: Option<Box<CertifiedClipper>>,
     plan: Option<Box<Plan>>,
     /// The inputs of the last computation, valid when `inputs_valid`.
-    ///
-    /// NOTE: overwritten in place, field by field: assigning a fresh
-    /// `Some((…))` built the tuple (kilobytes: two frusta with a spot light)
-    /// on the stack and copied it again.
-    inputs: Option<(Frustum, Light, Aabb)>,
+    inputs: Inputs,
     inputs_valid: bool,
+}
+
+/// What [`Body::exact`] rebuilds the inputs from: corners rather than
+/// validated frusta.
+///
+/// NOTE: a validated frustum carries its face structure and normals (about
+/// 900 bytes, as does every `Light` value, whatever its kind); copying two
+/// of them per body was a visible share of a frame. The corners are all that
+/// defines them, and validating the same corners again gives the same
+/// frustum.
+#[derive(Clone, Copy)]
+struct Inputs {
+    view: [DVec3; 8],
+    light: LightInput,
+    /// A spot light's frustum corners (unused for other lights).
+    spot_corners: [DVec3; 8],
+    scene: Aabb,
+}
+
+#[derive(Clone, Copy)]
+enum LightInput {
+    Directional(DVec3),
+    Point(DVec3),
+    Spot(DVec3),
 }
 
 impl Default for Body {
@@ -215,7 +237,12 @@ impl Body {
             work: None,
             fast: None,
             plan: None,
-            inputs: None,
+            inputs: Inputs {
+                view: [DVec3::ZERO; 8],
+                light: LightInput::Point(DVec3::ZERO),
+                spot_corners: [DVec3::ZERO; 8],
+                scene: Aabb { min: DVec3::ZERO, max: DVec3::ZERO },
+            },
             inputs_valid: false,
         }
     }
@@ -271,7 +298,16 @@ impl Body {
     /// NOTE: this runs the exact engine again on the last inputs (and
     /// allocates): it is a verification tool, not part of a frame.
     pub fn exact(&self) -> Option<Box<Polytope>> {
-        let (view, light, scene) = self.inputs.filter(|_| self.inputs_valid)?;
+        if !self.inputs_valid {
+            return None;
+        }
+        let Inputs { view, light, spot_corners, scene } = self.inputs;
+        let view = Frustum::from_corners(view).ok()?;
+        let light = match light {
+            LightInput::Directional(direction) => Light::Directional { direction },
+            LightInput::Point(position) => Light::Point { position },
+            LightInput::Spot(position) => Light::Spot { position, frustum: Frustum::from_corners(spot_corners).ok()? },
+        };
         let mut work = Box::new(Polytope::from_aabb(&scene));
         let mut plan = Box::new(Plan::new());
         match plan_into(&mut plan, &view, &light, &scene).ok()? {
@@ -282,14 +318,17 @@ impl Body {
     }
 
     fn remember_inputs(&mut self, view: &Frustum, light: &Light, scene: &Aabb) {
-        match &mut self.inputs {
-            Some((v, l, s)) => {
-                *v = *view;
-                *l = *light;
-                *s = *scene;
+        let inputs = &mut self.inputs;
+        inputs.view = *view.corners();
+        inputs.scene = *scene;
+        inputs.light = match light {
+            Light::Directional { direction } => LightInput::Directional(*direction),
+            Light::Point { position } => LightInput::Point(*position),
+            Light::Spot { position, frustum } => {
+                inputs.spot_corners = *frustum.corners();
+                LightInput::Spot(*position)
             }
-            None => self.inputs = Some((*view, *light, *scene)),
-        }
+        };
         self.inputs_valid = true;
     }
 
