@@ -205,23 +205,38 @@ fn line_proxy(p: &FloatPlane, a: DVec3, c: DVec3) -> FloatPlane {
     FloatPlane::general(Plane::Coefficients { normal: DVec3::ZERO, offset: 0.0 }, e.cross(p.n), en, a, 0.0, 0)
 }
 
+/// Coordinate `axis` (0, 1 or 2) of `p`, and its place.
+///
+/// NOTE: glam's `p[axis]` is a three-way match on every access, and in the
+/// per-vertex loops that was ~2 % of a body; as an array index it is one
+/// load (the `min` lets the bounds check go).
+#[inline(always)]
+fn coord(p: &DVec3, axis: usize) -> f64 {
+    p.as_ref()[axis.min(2)]
+}
+
+#[inline(always)]
+fn coord_mut(p: &mut DVec3, axis: usize) -> &mut f64 {
+    &mut p.as_mut()[axis.min(2)]
+}
+
 /// Where the line `a + t·d` meets a plane: `a` exact, `d` exact or the
 /// rounded difference of two exact points (`d_rounded`).
 fn line_crossing(a: DVec3, d: DVec3, d_rounded: bool, p: &FloatPlane) -> Option<(DVec3, DVec3)> {
     if p.axis < 3 {
         let axis = p.axis as usize;
-        if d[axis] == 0.0 {
+        if coord(&d, axis) == 0.0 {
             return None;
         }
         // NOTE: t = (value − a_k)/d_k carries at most three roundings (the
         // two differences and the quotient), so |t̃ − t| ≤ 3u|t| (plus second
         // order); x_m = a_m + t·d_m adds two more of |t·d_m| and one of |x_m|.
-        let t = (p.value - a[axis]) / d[axis];
+        let t = (p.value - coord(&a, axis)) / coord(&d, axis);
         let td = d * t;
         let mut x = a + td;
-        x[axis] = p.value;
+        *coord_mut(&mut x, axis) = p.value;
         let mut rad = exact_where_still((td.abs() * (6.0 * U) + x.abs() * (2.0 * U)) * SLACK + DVec3::splat(1e-300), d);
-        rad[axis] = 0.0;
+        *coord_mut(&mut rad, axis) = 0.0;
         return (x.is_finite() && rad.is_finite()).then_some((x, rad));
     }
     // NOTE: t = −P(a)/(n·d). P(a) is known within e_q (the side bound at an
@@ -708,8 +723,8 @@ impl CertifiedClipper {
             let a = axis as usize;
             let flip = if upper { 1.0 } else { -1.0 };
             for v in 0..self.n_verts {
-                let s = (self.pos[v][a] - value) * flip;
-                let Some(s) = decide(s, self.rad[v][a] * SLACK + 2.0 * U * s.abs()) else { return Step::Uncertain };
+                let s = (coord(&self.pos[v], a) - value) * flip;
+                let Some(s) = decide(s, coord(&self.rad[v], a) * SLACK + 2.0 * U * s.abs()) else { return Step::Uncertain };
                 self.sign[v] = s;
                 neg += (s < 0) as usize;
                 pos += (s > 0) as usize;
@@ -968,8 +983,8 @@ impl CertifiedClipper {
         for i in bits(on) {
             let p = &self.planes[i];
             if p.axis < 3 {
-                x[p.axis as usize] = p.value;
-                rad[p.axis as usize] = 0.0;
+                *coord_mut(&mut x, p.axis as usize) = p.value;
+                *coord_mut(&mut rad, p.axis as usize) = 0.0;
             }
         }
         self.pos[out] = x;
@@ -1033,32 +1048,31 @@ impl CertifiedClipper {
     /// two axis planes `fixed` are their values.
     fn crossing_on_plane(&self, g: usize, fixed: [usize; 2]) -> Option<(DVec3, DVec3)> {
         let p = &self.planes[g];
-        let [k1, k2] = fixed.map(|f| self.planes[f].axis as usize);
-        let j = 3 - k1 - k2;
-        let mut x = DVec3::ZERO;
+        let [k1, k2] = fixed.map(|f| (self.planes[f].axis as usize).min(2));
+        let j = (3 - k1 - k2).min(2);
+        let (n, en, anchor) = (p.n.to_array(), p.en.to_array(), p.anchor.to_array());
+        let mut x = [0.0; 3];
         x[k1] = self.planes[fixed[0]].value;
         x[k2] = self.planes[fixed[1]].value;
         // NOTE: n_j (x_j − a_j) = −q with q = Σ_{m≠j} n_m (x_m − a_m) + offset.
         // q's error: the normal's (en·|w|) and 5u of its terms' absolute sum;
         // dividing by ñ_j (within en_j) adds |q/n_j|·en_j over |ñ_j| − en_j.
-        let (w1, w2) = (x[k1] - p.anchor[k1], x[k2] - p.anchor[k2]);
-        let q = p.n[k1] * w1 + p.n[k2] * w2 + p.offset;
-        let eq = p.en[k1] * w1.abs()
-            + p.en[k2] * w2.abs()
-            + 5.0 * U * ((p.n[k1] * w1).abs() + (p.n[k2] * w2).abs() + p.offset.abs());
-        let (nj, enj) = (p.n[j].abs(), p.en[j]);
+        let (w1, w2) = (x[k1] - anchor[k1], x[k2] - anchor[k2]);
+        let q = n[k1] * w1 + n[k2] * w2 + p.offset;
+        let eq = en[k1] * w1.abs() + en[k2] * w2.abs() + 5.0 * U * ((n[k1] * w1).abs() + (n[k2] * w2).abs() + p.offset.abs());
+        let (nj, enj) = (n[j].abs(), en[j]);
         if !(nj > 2.0 * enj) {
             return None;
         }
-        let step = q / p.n[j];
-        x[j] = p.anchor[j] - step;
-        let mut rad = DVec3::ZERO;
+        let step = q / n[j];
+        x[j] = anchor[j] - step;
+        let mut rad = [0.0; 3];
         if q == 0.0 && eq == 0.0 {
             // q is exactly zero: the point is the anchor's coordinate, exact.
-            return Some((x, rad));
+            return Some((DVec3::from_array(x), DVec3::ZERO));
         }
         rad[j] = ((eq + step.abs() * enj) / (nj - enj) + 2.0 * U * step.abs() + U * x[j].abs()) * SLACK + 1e-300;
-        Some((x, rad))
+        Some((DVec3::from_array(x), DVec3::from_array(rad)))
     }
 
     /// Improves an estimate of the point where three planes meet and proves
