@@ -132,7 +132,7 @@ impl FloatPlane {
     /// `x[axis] ≤ value` (`upper`) or `≥ value`: exact, through no input point.
     fn axis(axis: u8, upper: bool, value: f64) -> FloatPlane {
         let mut n = DVec3::ZERO;
-        n[axis as usize] = if upper { 1.0 } else { -1.0 };
+        *coord_mut(&mut n, axis as usize) = if upper { 1.0 } else { -1.0 };
         FloatPlane { axis, upper, value, ..FloatPlane::general(Plane::Axis { axis, upper, value }, n, DVec3::ZERO, DVec3::ZERO, 0.0, 0) }
     }
 
@@ -164,11 +164,11 @@ impl FloatPlane {
     fn side(&self, x: DVec3, r: DVec3) -> (f64, f64) {
         if self.axis < 3 {
             let k = self.axis as usize;
-            let d = x[k] - self.value;
+            let d = coord(&x, k) - self.value;
             let s = if self.upper { d } else { -d };
             // NOTE: with an exact coordinate (r = 0) the rounded difference
             // has the exact sign, zero included: the bound is 2u·|s| < |s|.
-            return (s, r[k] * SLACK + 2.0 * U * s.abs());
+            return (s, coord(&r, k) * SLACK + 2.0 * U * s.abs());
         }
         let w = x - self.anchor;
         let s = self.n.dot(w) + self.offset;
