@@ -1257,7 +1257,18 @@ impl CertifiedClipper {
             if m < 3 {
                 continue;
             }
-            if ni + m > MAX_FACE_INDICES || self.face_cycle(self.plane_members[p], !(1 << p), m, &mut out.idx[ni..ni + m]).is_none() {
+            if ni + m > MAX_FACE_INDICES {
+                return false;
+            }
+            if m == 3 {
+                // NOTE: three vertices of a face are a triangle in either
+                // order; the orientation is decided below like any face's, and
+                // Euler's formula still checks the whole surface.
+                let mut on_p = bits(self.plane_members[p]);
+                for slot in &mut out.idx[ni..ni + 3] {
+                    *slot = on_p.next().unwrap_or(0) as u16;
+                }
+            } else if self.face_cycle(self.plane_members[p], !(1 << p), m, &mut out.idx[ni..ni + m]).is_none() {
                 return false;
             }
             let cycle = &out.idx[ni..ni + m];
@@ -1469,7 +1480,8 @@ impl CertifiedClipper {
         // collinear defining points) the polygon's area vector decides.
         let decided = (0..m)
             .find_map(|s| {
-                let (v, a, b) = (cycle[s] as usize, cycle[(s + 1) % m] as usize, cycle[(s + m - 1) % m] as usize);
+                let (next, prev) = (if s + 1 == m { 0 } else { s + 1 }, if s == 0 { m - 1 } else { s - 1 });
+                let (v, a, b) = (cycle[s] as usize, cycle[next] as usize, cycle[prev] as usize);
                 let (to_a, to_b) = (self.on[v] & self.on[a] & others, self.on[v] & self.on[b] & others);
                 bits(to_a).find_map(|i| bits(to_b).find_map(|j| Self::normals_det_sign(&self.planes[p], &self.planes[i], &self.planes[j])))
             })

@@ -404,8 +404,10 @@ impl Frustum {
 
     fn push_face(&mut self, idx: &[u8]) {
         let i = self.n_faces as usize;
-        for (k, &a) in idx.iter().enumerate() {
-            self.edge_face[a as usize][idx[(k + 1) % idx.len()] as usize] = i as u8;
+        let mut prev = idx[idx.len() - 1];
+        for &a in idx {
+            self.edge_face[prev as usize][a as usize] = i as u8;
+            prev = a;
         }
         self.faces[i][..idx.len()].copy_from_slice(idx);
         self.faces_len[i] = idx.len() as u8;
@@ -530,7 +532,8 @@ impl Frustum {
             }
             let f = self.face(i);
             for k in 0..f.len() {
-                let (a, b) = (f[k], f[(k + 1) % f.len()]);
+                // NOTE: the next index without `%`, a division per edge.
+                let (a, b) = (f[k], f[if k + 1 == f.len() { 0 } else { k + 1 }]);
                 if let Some(j) = self.face_with_edge(b, a) {
                     if !sees[j] {
                         let (pa, pb) = (self.corners[a as usize], self.corners[b as usize]);
