@@ -2,7 +2,7 @@
 
 use crate::error::{check_finite, GeomError};
 use crate::certified::{CertifiedClipper, Step};
-use crate::frustum::{Apex, Frustum, PlaneSet};
+use crate::frustum::{Apex, Frustum, HullOutline, PlaneSet};
 use crate::polytope::Polytope;
 use crate::{MAX_FACES, MAX_FACE_INDICES, MAX_VERTICES};
 use glam::{DVec3, DVec4};
@@ -311,7 +311,7 @@ impl Body {
         let mut work = Box::new(Polytope::from_aabb(&scene));
         let mut plan = Box::new(Plan::new());
         match plan_into(&mut plan, &view, &light, &scene).ok()? {
-            true => clip_exactly(&mut work, &plan).ok()?,
+            true => clip_exactly(&mut work, &mut plan, &view, &light).ok()?,
             false => work.make_empty(),
         }
         Some(work)
@@ -386,6 +386,9 @@ pub fn focus_body(view: &Frustum, light: &Light, scene: &Aabb) -> Result<Body, G
 struct Plan {
     start: Aabb,
     scene_clip_skipped: bool,
+    /// `hull(V ∪ {l})` by plane origins; its planes go into `hull` only for
+    /// the exact engine (see [`clip_exactly`]).
+    outline: HullOutline,
     hull: PlaneSet,
     /// `L`'s planes, for a spot light only.
     spot: bool,
@@ -394,7 +397,14 @@ struct Plan {
 
 impl Plan {
     fn new() -> Plan {
-        Plan { start: Aabb { min: DVec3::ZERO, max: DVec3::ZERO }, scene_clip_skipped: false, hull: PlaneSet::new(), spot: false, light_planes: PlaneSet::new() }
+        Plan {
+            start: Aabb { min: DVec3::ZERO, max: DVec3::ZERO },
+            scene_clip_skipped: false,
+            outline: HullOutline::new(),
+            hull: PlaneSet::new(),
+            spot: false,
+            light_planes: PlaneSet::new(),
+        }
     }
 
     fn light_planes(&self) -> Option<&PlaneSet> {
@@ -408,7 +418,7 @@ impl Plan {
 /// returning them by value cost more than building them.
 fn plan_into(plan: &mut Plan, view: &Frustum, light: &Light, scene: &Aabb) -> Result<bool, GeomError> {
     let Some((start, scene_clip_skipped)) = start_box(view, light, scene) else { return Ok(false) };
-    view.hull_into(light.apex(), &mut plan.hull)?;
+    view.hull_outline_into(light.apex(), &mut plan.outline)?;
     plan.spot = false;
     if let Light::Spot { frustum, .. } = light {
         frustum.planes_into(&mut plan.light_planes);
@@ -422,7 +432,8 @@ fn plan_into(plan: &mut Plan, view: &Frustum, light: &Light, scene: &Aabb) -> Re
 }
 
 /// The exact engine: every decision exact, vertices kept unrounded.
-fn clip_exactly(work: &mut Polytope, plan: &Plan) -> Result<(), GeomError> {
+fn clip_exactly(work: &mut Polytope, plan: &mut Plan, view: &Frustum, light: &Light) -> Result<(), GeomError> {
+    view.hull_planes_into(light.apex(), &plan.outline, &mut plan.hull);
     work.reset_to_aabb(&plan.start);
     work.clip_all(plan.hull.as_slice())?;
     if let Some(l) = plan.light_planes() {
@@ -438,7 +449,7 @@ fn clip_certified(fast: &mut CertifiedClipper, plan: &Plan, view: &Frustum, ligh
         Light::Spot { frustum, .. } => Some(frustum.corners()),
         _ => None,
     };
-    let mut step = fast.reset_to_hull(view, light.apex(), &plan.hull, scene, light_frustum);
+    let mut step = fast.reset_to_hull(view, light.apex(), &plan.outline, scene, light_frustum);
     if step == Step::Nonempty && !plan.scene_clip_skipped {
         step = fast.clip_box(scene);
     }
@@ -514,7 +525,7 @@ fn compute(out: &mut Body, view: &Frustum, light: &Light, scene: &Aabb, float_pa
 fn compute_planned(out: &mut Body, plan: &mut Plan, view: &Frustum, light: &Light, scene: &Aabb, float_path: bool, skip: bool, mut stats: FocusStats) -> Result<(), GeomError> {
     plan.scene_clip_skipped &= skip;
     stats.scene_clip_skipped = plan.scene_clip_skipped;
-    stats.planes_offered = (plan.hull.as_slice().len() + plan.light_planes().map_or(0, |l| l.as_slice().len())) as u16;
+    stats.planes_offered = (plan.outline.len() + plan.light_planes().map_or(0, |l| l.as_slice().len())) as u16;
 
     let mut answered = false;
     if float_path {
@@ -536,7 +547,7 @@ fn compute_planned(out: &mut Body, plan: &mut Plan, view: &Frustum, light: &Ligh
         stats.float_path = true;
     } else {
         let mut work = out.work.take().unwrap_or_else(|| Box::new(Polytope::from_aabb(&plan.start)));
-        if let Err(e) = clip_exactly(&mut work, plan) {
+        if let Err(e) = clip_exactly(&mut work, plan, view, light) {
             out.work = Some(work);
             out.clear();
             return Err(e);

@@ -39,7 +39,7 @@
 //! clip like a solid with one dimension fewer.
 
 use crate::body::{Aabb, Body};
-use crate::frustum::{abs_cross, creased_pair, Apex, Frustum, Origin, PlaneSet};
+use crate::frustum::{abs_cross, creased_pair, Apex, Frustum, HullOutline, Origin, PlaneSet};
 use crate::plane::Plane;
 use crate::polytope::{point_side, ROUNDING_ULPS};
 use crate::{MAX_FACE_INDICES, MAX_VERTICES};
@@ -431,7 +431,7 @@ impl CertifiedClipper {
         &mut self,
         view: &Frustum,
         apex: Apex,
-        hull: &PlaneSet,
+        hull: &HullOutline,
         scene: &Aabb,
         light_frustum: Option<&[DVec3; 8]>,
     ) -> Step {
@@ -446,7 +446,7 @@ impl CertifiedClipper {
         // NOTE: beneath–beyond takes the frustum's faces as the hull's; when
         // faces are coplanar the hull's faces differ (merged, with corners
         // inside them), so such frusta go to the exact engine.
-        if hull.apex_coplanar || !view.faces_are_hull_faces() || hull.as_slice().len() + 1 > MAX_FAST_PLANES {
+        if hull.apex_coplanar || !view.faces_are_hull_faces() || hull.len() + 1 > MAX_FAST_PLANES {
             return Step::Uncertain;
         }
         let corners = view.corners();
@@ -469,8 +469,9 @@ impl CertifiedClipper {
         // of the corners' shadows on the closing plane (directional light).
         let mut vid = [NONE; 9];
         let mut shadow = [NONE; 8];
-        for (p, ((&plane, &through), origin)) in hull.as_slice().iter().zip(hull.through()).zip(hull.origins()).enumerate() {
-            self.planes[p] = match (plane, *origin) {
+        for (p, (&through, &origin)) in hull.through().iter().zip(hull.origins()).enumerate() {
+            let plane = view.hull_plane(apex, origin);
+            self.planes[p] = match (plane, origin) {
                 // The frustum computed this cross product when it was validated.
                 (Plane::Points([p, ..]), Origin::Face(f)) => {
                     let (n, abs_n) = view.face_normal(f as usize);
@@ -480,7 +481,7 @@ impl CertifiedClipper {
             };
             self.partners[p] = 0;
         }
-        self.n_planes = hull.as_slice().len();
+        self.n_planes = hull.len();
         // The closing plane and the direction toward the light.
         let closing = match apex {
             Apex::Finite(_) => None,
@@ -586,7 +587,7 @@ impl CertifiedClipper {
 
     /// Where the light's ray through frustum corner `c` meets the closing
     /// plane: on the two horizon planes through `c` and the closing plane.
-    fn shadow_vertex(&mut self, hull: &PlaneSet, c: u8, cap: usize, toward: DVec3) -> Option<u8> {
+    fn shadow_vertex(&mut self, hull: &HullOutline, c: u8, cap: usize, toward: DVec3) -> Option<u8> {
         let mut sides = [0usize; 2];
         let mut n = 0;
         for (p, origin) in hull.origins().iter().enumerate() {

@@ -70,7 +70,7 @@ impl Apex {
 /// Bit of the hull apex in [`PlaneSet::through`] (bits 0–7 are corners).
 pub(crate) const APEX_BIT: u32 = 1 << 8;
 
-/// Where a plane of a [`PlaneSet`] comes from.
+/// Where a plane of a frustum hull comes from (see [`HullOutline`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Origin {
     /// Face `i` of the frustum.
@@ -84,7 +84,6 @@ pub(crate) enum Origin {
 #[derive(Clone, Copy, Debug)]
 pub struct PlaneSet {
     planes: [Plane; 2 * MAX_FRUSTUM_FACES],
-    origin: [Origin; 2 * MAX_FRUSTUM_FACES],
     /// Some face's plane contains the apex (the hull's faces are then not
     /// all distinct planes).
     pub(crate) apex_coplanar: bool,
@@ -100,7 +99,6 @@ impl PlaneSet {
         PlaneSet {
             planes: [Plane::Axis { axis: 0, upper: true, value: 0.0 }; 2 * MAX_FRUSTUM_FACES],
             through: [0; 2 * MAX_FRUSTUM_FACES],
-            origin: [Origin::Face(0); 2 * MAX_FRUSTUM_FACES],
             apex_coplanar: false,
             len: 0,
         }
@@ -109,21 +107,59 @@ impl PlaneSet {
         self.len = 0;
         self.apex_coplanar = false;
     }
-    fn push(&mut self, p: Plane, through: u32, origin: Origin) {
+    fn push(&mut self, p: Plane, through: u32) {
         // Capacity: kept faces + horizon edges ≤ 12 + 12 for a frustum hull.
         self.planes[self.len] = p;
         self.through[self.len] = through;
-        self.origin[self.len] = origin;
         self.len += 1;
-    }
-    pub(crate) fn origins(&self) -> &[Origin] {
-        &self.origin[..self.len]
     }
     pub fn as_slice(&self) -> &[Plane] {
         &self.planes[..self.len]
     }
     pub(crate) fn through(&self) -> &[u32] {
         &self.through[..self.len]
+    }
+}
+
+/// The hull's planes by origin, in [`PlaneSet`] order, without the planes
+/// themselves: what the float path builds its own planes from, and what
+/// [`Frustum::hull_planes_into`] turns into a [`PlaneSet`] when the exact
+/// engine needs one.
+///
+/// NOTE: most frames never need the `Plane` values (the float path answers),
+/// and writing them was ~3 % of a body.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct HullOutline {
+    origin: [Origin; 2 * MAX_FRUSTUM_FACES],
+    /// As [`PlaneSet::through`].
+    through: [u32; 2 * MAX_FRUSTUM_FACES],
+    len: usize,
+    /// As [`PlaneSet::apex_coplanar`].
+    pub(crate) apex_coplanar: bool,
+}
+
+impl HullOutline {
+    pub(crate) fn new() -> HullOutline {
+        HullOutline { origin: [Origin::Face(0); 2 * MAX_FRUSTUM_FACES], through: [0; 2 * MAX_FRUSTUM_FACES], len: 0, apex_coplanar: false }
+    }
+
+    pub(crate) fn len(&self) -> usize {
+        self.len
+    }
+
+    pub(crate) fn origins(&self) -> &[Origin] {
+        &self.origin[..self.len]
+    }
+
+    pub(crate) fn through(&self) -> &[u32] {
+        &self.through[..self.len]
+    }
+
+    fn push(&mut self, through: u32, origin: Origin) {
+        // Capacity: kept faces + horizon edges ≤ 12 + 12 for a frustum hull.
+        self.origin[self.len] = origin;
+        self.through[self.len] = through;
+        self.len += 1;
     }
 }
 
@@ -463,7 +499,7 @@ impl Frustum {
     pub(crate) fn planes_into(&self, out: &mut PlaneSet) {
         out.clear();
         for i in 0..self.face_count() {
-            out.push(self.face_plane(i), corner_bits(self.face(i)), Origin::Face(i as u8));
+            out.push(self.face_plane(i), corner_bits(self.face(i)));
         }
     }
 
@@ -487,7 +523,42 @@ impl Frustum {
 
     /// [`Frustum::hull_with`] written into `out` (no copy of the set).
     pub(crate) fn hull_into(&self, apex: Apex, out: &mut PlaneSet) -> Result<(), GeomError> {
+        let mut outline = HullOutline::new();
+        self.hull_outline_into(apex, &mut outline)?;
+        self.hull_planes_into(apex, &outline, out);
+        Ok(())
+    }
+
+    /// The planes of an outline made by [`Frustum::hull_outline_into`] for
+    /// the same apex.
+    pub(crate) fn hull_planes_into(&self, apex: Apex, outline: &HullOutline, out: &mut PlaneSet) {
         out.clear();
+        out.apex_coplanar = outline.apex_coplanar;
+        for (&origin, &through) in outline.origins().iter().zip(outline.through()) {
+            out.push(self.hull_plane(apex, origin), through);
+        }
+    }
+
+    /// The plane of the hull with `apex` that comes from `origin`.
+    #[inline]
+    pub(crate) fn hull_plane(&self, apex: Apex, origin: Origin) -> Plane {
+        match origin {
+            Origin::Face(i) => self.face_plane(i as usize),
+            Origin::Horizon(a, b) => {
+                let (pa, pb) = (self.corners[a as usize], self.corners[b as usize]);
+                match apex {
+                    Apex::Finite(l) => Plane::Points([pa, pb, l]),
+                    Apex::Infinite(direction) => Plane::PointsDirection { p: pa, q: pb, direction },
+                }
+            }
+        }
+    }
+
+    /// Beneath–beyond as in [`Frustum::hull_with`], recording where each
+    /// plane comes from.
+    pub(crate) fn hull_outline_into(&self, apex: Apex, out: &mut HullOutline) -> Result<(), GeomError> {
+        out.len = 0;
+        out.apex_coplanar = false;
         match apex {
             Apex::Finite(l) => check_finite(l, "hull apex")?,
             Apex::Infinite(d) => {
@@ -525,9 +596,13 @@ impl Frustum {
             *seen = side > 0;
             out.apex_coplanar |= side == 0;
         }
+        let apex_bit = match apex {
+            Apex::Finite(_) => APEX_BIT,
+            Apex::Infinite(_) => 0,
+        };
         for i in 0..n {
             if !sees[i] {
-                out.push(self.face_plane(i), corner_bits(self.face(i)), Origin::Face(i as u8));
+                out.push(corner_bits(self.face(i)), Origin::Face(i as u8));
                 continue;
             }
             let f = self.face(i);
@@ -536,12 +611,7 @@ impl Frustum {
                 let (a, b) = (f[k], f[if k + 1 == f.len() { 0 } else { k + 1 }]);
                 if let Some(j) = self.face_with_edge(b, a) {
                     if !sees[j] {
-                        let (pa, pb) = (self.corners[a as usize], self.corners[b as usize]);
-                        let (plane, apex_bit) = match apex {
-                            Apex::Finite(l) => (Plane::Points([pa, pb, l]), APEX_BIT),
-                            Apex::Infinite(direction) => (Plane::PointsDirection { p: pa, q: pb, direction }, 0),
-                        };
-                        out.push(plane, corner_bits(&[a, b]) | apex_bit, Origin::Horizon(a, b));
+                        out.push(corner_bits(&[a, b]) | apex_bit, Origin::Horizon(a, b));
                     }
                 }
             }
