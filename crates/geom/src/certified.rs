@@ -39,7 +39,7 @@
 //! clip like a solid with one dimension fewer.
 
 use crate::body::{Aabb, Body};
-use crate::frustum::{abs_cross, creased_pair, Apex, Frustum, HullOutline, Origin, PlaneSet};
+use crate::frustum::{abs_cross, corner_bits, creased_pair, Apex, Frustum, HullOutline, Origin, PlaneSet, APEX_BIT};
 use crate::plane::Plane;
 use crate::polytope::{point_side, ROUNDING_ULPS};
 use crate::{MAX_FACE_INDICES, MAX_VERTICES};
@@ -446,7 +446,7 @@ impl CertifiedClipper {
         // NOTE: beneath–beyond takes the frustum's faces as the hull's; when
         // faces are coplanar the hull's faces differ (merged, with corners
         // inside them), so such frusta go to the exact engine.
-        if hull.apex_coplanar || !view.faces_are_hull_faces() || hull.len() + 1 > MAX_FAST_PLANES {
+        if !view.faces_are_hull_faces() || hull.len() + 1 > MAX_FAST_PLANES {
             return Step::Uncertain;
         }
         let corners = view.corners();
@@ -464,6 +464,9 @@ impl CertifiedClipper {
             if p.is_finite() {
                 self.magnitude = self.magnitude.max(p.abs().max_element());
             }
+        }
+        if hull.apex_coplanar {
+            return self.reset_to_merged_hull(view, apex, hull, scene);
         }
         // Vertex ids of the input points (frustum corners 0–7, light 8) and
         // of the corners' shadows on the closing plane (directional light).
@@ -523,6 +526,116 @@ impl CertifiedClipper {
         }
         // The closing plane's face is the horizon's shadow: at least a triangle.
         if closing.is_some() && shadow.iter().filter(|&&v| v != NONE).count() < 3 {
+            return Step::Uncertain;
+        }
+        Step::Nonempty
+    }
+
+    /// `hull(V ∪ {l})` when the light lies in the plane of some frustum
+    /// faces (exact signs in `hull.sees` and `hull.coplanar`).
+    ///
+    /// Beneath–beyond with the light on a face's plane: that face and the
+    /// light make one facet on the face's plane, and no horizon facet rises
+    /// on its edges (it would lie in that plane). A corner stays a vertex
+    /// exactly when the light lies strictly beneath some face through it:
+    /// a corner whose faces all see the light or hold it lies inside a merged
+    /// facet or on one of its edges (between the light and another corner).
+    /// The light itself is a vertex when some face sees it; when none does,
+    /// it lies on V's boundary and the hull is V (every corner a vertex, the
+    /// light one only if it is a corner).
+    ///
+    /// For a light at infinity a ray from a kept corner is an edge exactly
+    /// when two of the hull's planes through the corner contain the
+    /// direction (horizon planes, and faces holding the light): then its
+    /// shadow on the closing plane is a vertex on those planes.
+    fn reset_to_merged_hull(&mut self, view: &Frustum, apex: Apex, hull: &HullOutline, scene: &Aabb) -> Step {
+        let (sees, coplanar) = (hull.sees, hull.coplanar);
+        let light_in_view = sees == 0;
+        let n_faces = view.face_count();
+        let beneath = !(sees | coplanar) & ((1u16 << n_faces) - 1);
+        let apex_bit = match apex {
+            Apex::Finite(_) => APEX_BIT,
+            Apex::Infinite(_) => 0,
+        };
+        let mut kept = if light_in_view { 0xff } else { 0u32 };
+        for i in bits(beneath as u64) {
+            kept |= corner_bits(view.face(i));
+        }
+        // Planes, in the order the outline lists them, less the horizon
+        // planes raised toward a face that holds the light.
+        // `with_light`: the planes through the light (or, at infinity,
+        // containing its direction).
+        let (mut np, mut with_light) = (0, 0u64);
+        for (&through, &origin) in hull.through().iter().zip(hull.origins()) {
+            let plane = view.hull_plane(apex, origin);
+            self.planes[np] = match origin {
+                Origin::Face(f) => {
+                    let holds_light = coplanar & 1 << f != 0;
+                    with_light |= u64::from(holds_light) << np;
+                    let (n, abs_n) = view.face_normal(f as usize);
+                    let Plane::Points([p, ..]) = plane else { return Step::Uncertain };
+                    FloatPlane::through_points(plane, p, n, abs_n, through | if holds_light { apex_bit } else { 0 })
+                }
+                Origin::Horizon(a, b) => match view.face_with_edge(b, a) {
+                    Some(g) if beneath & 1 << g != 0 => {
+                        with_light |= 1 << np;
+                        FloatPlane::new(plane, through)
+                    }
+                    _ => continue,
+                },
+            };
+            self.partners[np] = 0;
+            np += 1;
+        }
+        self.n_planes = np;
+        // Vertices: the kept corners, then the light (or the shadows).
+        let mut vid = [NONE; 9];
+        for c in bits(kept as u64) {
+            self.input_vertex(&mut vid, c);
+        }
+        if let (Apex::Finite(_), false) = (apex, light_in_view) {
+            self.input_vertex(&mut vid, 8);
+        }
+        // Incidences from the planes' defining points; per kept corner, its
+        // planes that contain the light's direction.
+        let mut along = [0u64; 8];
+        for p in 0..np {
+            let bit = 1u64 << p;
+            for c in bits(u64::from(self.planes[p].through) & u64::from(kept)) {
+                self.on[vid[c] as usize] |= bit;
+                along[c] |= bit & with_light;
+            }
+        }
+        let toward = match apex {
+            Apex::Finite(_) => {
+                if !light_in_view {
+                    for p in bits(with_light) {
+                        self.on[vid[8] as usize] |= 1 << p;
+                    }
+                }
+                return Step::Nonempty;
+            }
+            Apex::Infinite(toward) => toward,
+        };
+        let Some(cap) = self.closing_plane(toward, scene, view.corners()) else { return Step::Uncertain };
+        let mut shadows = 0;
+        for c in bits(kept as u64) {
+            if !two_or_more(along[c]) {
+                continue;
+            }
+            if self.n_verts >= CAP_V {
+                return Step::Uncertain;
+            }
+            let Some((pos, rad)) = line_crossing(self.points[c], toward, false, &self.planes[cap]) else { return Step::Uncertain };
+            let v = self.n_verts;
+            self.pos[v] = pos;
+            self.rad[v] = rad;
+            self.on[v] = along[c] | 1 << cap;
+            self.is_point[v] = 0;
+            self.n_verts += 1;
+            shadows += 1;
+        }
+        if shadows < 3 {
             return Step::Uncertain;
         }
         Step::Nonempty

@@ -136,11 +136,14 @@ pub(crate) struct HullOutline {
     len: usize,
     /// As [`PlaneSet::apex_coplanar`].
     pub(crate) apex_coplanar: bool,
+    /// Faces the apex lies strictly beyond, and faces whose plane holds it.
+    pub(crate) sees: u16,
+    pub(crate) coplanar: u16,
 }
 
 impl HullOutline {
     pub(crate) fn new() -> HullOutline {
-        HullOutline { origin: [Origin::Face(0); 2 * MAX_FRUSTUM_FACES], through: [0; 2 * MAX_FRUSTUM_FACES], len: 0, apex_coplanar: false }
+        HullOutline { origin: [Origin::Face(0); 2 * MAX_FRUSTUM_FACES], through: [0; 2 * MAX_FRUSTUM_FACES], len: 0, apex_coplanar: false, sees: 0, coplanar: 0 }
     }
 
     pub(crate) fn len(&self) -> usize {
@@ -212,7 +215,7 @@ const QUAD_OTHERS: [[u8; 4]; 6] = {
     others
 };
 
-fn corner_bits(idx: &[u8]) -> u32 {
+pub(crate) fn corner_bits(idx: &[u8]) -> u32 {
     idx.iter().fold(0, |m, &i| m | 1 << i)
 }
 
@@ -559,6 +562,8 @@ impl Frustum {
     pub(crate) fn hull_outline_into(&self, apex: Apex, out: &mut HullOutline) -> Result<(), GeomError> {
         out.len = 0;
         out.apex_coplanar = false;
+        out.sees = 0;
+        out.coplanar = 0;
         match apex {
             Apex::Finite(l) => check_finite(l, "hull apex")?,
             Apex::Infinite(d) => {
@@ -595,6 +600,8 @@ impl Frustum {
             };
             *seen = side > 0;
             out.apex_coplanar |= side == 0;
+            out.sees |= u16::from(side > 0) << i;
+            out.coplanar |= u16::from(side == 0) << i;
         }
         let apex_bit = match apex {
             Apex::Finite(_) => APEX_BIT,
@@ -619,7 +626,7 @@ impl Frustum {
         Ok(())
     }
 
-    fn face_with_edge(&self, a: u8, b: u8) -> Option<usize> {
+    pub(crate) fn face_with_edge(&self, a: u8, b: u8) -> Option<usize> {
         let f = self.edge_face[a as usize][b as usize];
         (f != u8::MAX).then_some(f as usize)
     }

@@ -1175,6 +1175,8 @@ fn exactly_coplanar_lights_and_faces_give_the_exact_engines_body() {
         checked += 1;
         on_float_path += usize::from(body.stats().float_path);
     }
-    // Both engines are exercised: the search is not vacuous.
-    assert!(checked > 4000 && on_float_path > 1000 && checked - on_float_path > 1000, "checked {checked}, float path {on_float_path}");
+    // The search is not vacuous, and the float path's merged hulls answer
+    // most of it (it declines, for one, frusta with a corner in another
+    // face's plane); the exact engine is the reference for every case.
+    assert!(checked > 4000 && on_float_path > checked * 9 / 10, "checked {checked}, float path {on_float_path}");
 }

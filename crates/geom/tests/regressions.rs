@@ -378,3 +378,42 @@ fn flat_bodies_stay_on_the_float_path() {
         assert_float_path_matches_exact_engine(&body, &view, &light, &scene);
     }
 }
+
+/// A light in the plane of frustum faces: the hull's face on that plane is
+/// the frustum face merged with the light (a corner can vanish into it), and
+/// no horizon face rises on its edges. The float path builds that hull; a
+/// light on V's boundary leaves V itself. Each case fails if the float path
+/// declines it or disagrees with the exact engine.
+#[test]
+fn lights_in_a_face_plane_stay_on_the_float_path() {
+    let view = simple_view(); // faces: z = −1, z = −8, y = ±(−z), x = ±(−z)
+    let points = [
+        DVec3::new(20.0, 0.0, -8.0),  // far plane, beside the far face
+        DVec3::new(20.0, 8.0, -8.0),  // far and top planes: corner (8, 8, −8) vanishes
+        DVec3::new(0.5, 0.25, -1.0),  // inside the near face
+        DVec3::new(0.0, 8.0, -8.0),   // on a far edge
+        DVec3::new(8.0, 8.0, -8.0),   // a corner
+        DVec3::new(3.0, 0.0, -3.0),   // inside the right face
+        DVec3::new(0.0, 12.0, -12.0), // top plane, beyond the far face
+    ];
+    let directions = [
+        DVec3::new(1.0, 0.0, 0.0),   // parallel to near, far, top and bottom
+        DVec3::new(0.0, -1.0, 1.0),  // parallel to the top face
+        DVec3::new(0.0, 0.0, -1.0),  // parallel to no face (control)
+        DVec3::new(-1.0, 0.0, -1.0), // parallel to the right face
+    ];
+    let scenes = [
+        Aabb::new(DVec3::new(-40.3, -41.7, -43.1), DVec3::new(39.1, 42.9, 38.3)).unwrap(),
+        // Faces in general position against the frustum's planes.
+        Aabb::new(DVec3::new(-5.3, -3.1, -20.7), DVec3::new(25.9, 6.3, 0.7)).unwrap(),
+        Aabb::new(DVec3::new(-2.3, -9.1, -6.7), DVec3::new(30.1, 2.9, -2.6)).unwrap(),
+    ];
+    let lights = points.map(|p| Light::point(p).unwrap()).into_iter().chain(directions.map(|d| Light::directional(d).unwrap()));
+    for light in lights {
+        for scene in &scenes {
+            let body = focus_body(&view, &light, scene).unwrap();
+            assert!(!body.is_empty(), "{light:?} {scene:?}");
+            assert_float_path_matches_exact_engine(&body, &view, &light, scene);
+        }
+    }
+}
