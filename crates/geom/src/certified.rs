@@ -473,14 +473,13 @@ impl CertifiedClipper {
         let mut vid = [NONE; 9];
         let mut shadow = [NONE; 8];
         for (p, (&through, &origin)) in hull.through().iter().zip(hull.origins()).enumerate() {
-            let plane = view.hull_plane(apex, origin);
-            self.planes[p] = match (plane, origin) {
+            self.planes[p] = match origin {
                 // The frustum computed this cross product when it was validated.
-                (Plane::Points([p, ..]), Origin::Face(f)) => {
+                Origin::Face(f) => {
                     let (n, abs_n) = view.face_normal(f as usize);
-                    FloatPlane::through_points(plane, p, n, abs_n, through)
+                    FloatPlane::through_points(view.face_plane(f as usize), corners[view.face(f as usize)[0] as usize], n, abs_n, through)
                 }
-                _ => FloatPlane::new(plane, through),
+                Origin::Horizon(..) => FloatPlane::new(view.hull_plane(apex, origin), through),
             };
             self.partners[p] = 0;
         }
@@ -567,19 +566,18 @@ impl CertifiedClipper {
         // containing its direction).
         let (mut np, mut with_light) = (0, 0u64);
         for (&through, &origin) in hull.through().iter().zip(hull.origins()) {
-            let plane = view.hull_plane(apex, origin);
             self.planes[np] = match origin {
                 Origin::Face(f) => {
                     let holds_light = coplanar & 1 << f != 0;
                     with_light |= u64::from(holds_light) << np;
                     let (n, abs_n) = view.face_normal(f as usize);
-                    let Plane::Points([p, ..]) = plane else { return Step::Uncertain };
-                    FloatPlane::through_points(plane, p, n, abs_n, through | if holds_light { apex_bit } else { 0 })
+                    let p = view.corners()[view.face(f as usize)[0] as usize];
+                    FloatPlane::through_points(view.face_plane(f as usize), p, n, abs_n, through | if holds_light { apex_bit } else { 0 })
                 }
                 Origin::Horizon(a, b) => match view.face_with_edge(b, a) {
                     Some(g) if beneath & 1 << g != 0 => {
                         with_light |= 1 << np;
-                        FloatPlane::new(plane, through)
+                        FloatPlane::new(view.hull_plane(apex, origin), through)
                     }
                     _ => continue,
                 },

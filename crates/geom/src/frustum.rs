@@ -485,8 +485,8 @@ impl Frustum {
         (self.normals[i], self.abs_normals[i])
     }
 
-    #[inline]
-    fn face_plane(&self, i: usize) -> Plane {
+    #[inline(always)]
+    pub(crate) fn face_plane(&self, i: usize) -> Plane {
         let f = self.face(i);
         Plane::Points([self.corners[f[0] as usize], self.corners[f[1] as usize], self.corners[f[2] as usize]])
     }
@@ -543,7 +543,7 @@ impl Frustum {
     }
 
     /// The plane of the hull with `apex` that comes from `origin`.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn hull_plane(&self, apex: Apex, origin: Origin) -> Plane {
         match origin {
             Origin::Face(i) => self.face_plane(i as usize),
@@ -575,8 +575,8 @@ impl Frustum {
         }
         let n = self.face_count();
         let in_range = self.in_range && in_safe_range(apex.coordinates());
-        let mut sees = [false; MAX_FRUSTUM_FACES];
-        for (i, seen) in sees.iter_mut().enumerate().take(n) {
+        let (mut sees, mut coplanar) = (0u16, 0u16);
+        for i in 0..n {
             let filter = self.face_filter(i);
             let triangle = || {
                 let f = self.face(i);
@@ -598,17 +598,16 @@ impl Frustum {
                     }
                 },
             };
-            *seen = side > 0;
-            out.apex_coplanar |= side == 0;
-            out.sees |= u16::from(side > 0) << i;
-            out.coplanar |= u16::from(side == 0) << i;
+            sees |= u16::from(side > 0) << i;
+            coplanar |= u16::from(side == 0) << i;
         }
+        (out.sees, out.coplanar, out.apex_coplanar) = (sees, coplanar, coplanar != 0);
         let apex_bit = match apex {
             Apex::Finite(_) => APEX_BIT,
             Apex::Infinite(_) => 0,
         };
         for i in 0..n {
-            if !sees[i] {
+            if sees & 1 << i == 0 {
                 out.push(corner_bits(self.face(i)), Origin::Face(i as u8));
                 continue;
             }
@@ -617,7 +616,7 @@ impl Frustum {
                 // NOTE: the next index without `%`, a division per edge.
                 let (a, b) = (f[k], f[if k + 1 == f.len() { 0 } else { k + 1 }]);
                 if let Some(j) = self.face_with_edge(b, a) {
-                    if !sees[j] {
+                    if sees & 1 << j == 0 {
                         out.push(corner_bits(&[a, b]) | apex_bit, Origin::Horizon(a, b));
                     }
                 }
