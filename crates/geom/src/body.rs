@@ -152,7 +152,10 @@ pub struct FocusStats {
     pub planes_cleared: u16,
     /// Stopped early because the body became empty.
     pub early_exit: bool,
-    /// Predicates the floating-point filter could not decide (exact path).
+    /// Big-integer evaluations: on the exact engine, predicates and
+    /// coordinates the floating-point filters could not settle; on the float
+    /// path, vertices placed from their planes' exact intersection (where
+    /// the float estimate's proven error was above the output tolerance).
     pub exact_evaluations: u32,
     /// The certified floating-point path answered; the exact engine was
     /// not needed.
@@ -541,6 +544,9 @@ fn compute_planned(out: &mut Body, plan: &mut Plan, view: &Frustum, light: &Ligh
         };
         stats.planes_cut = fast.cuts;
         stats.planes_cleared = fast.cleared;
+        if answered {
+            stats.exact_evaluations = u32::from(fast.exact_vertices);
+        }
         out.fast = Some(fast);
     }
     if answered {

@@ -40,7 +40,8 @@
 
 use crate::body::{Aabb, Body};
 use crate::frustum::{abs_cross, corner_bits, creased_pair, Apex, Frustum, HullOutline, Origin, PlaneSet, APEX_BIT};
-use crate::plane::Plane;
+use crate::number::Exact;
+use crate::plane::{intersect3, Plane};
 use crate::polytope::{point_side, ROUNDING_ULPS};
 use crate::{MAX_FACE_INDICES, MAX_VERTICES};
 use glam::{DMat3, DVec3, DVec4};
@@ -376,6 +377,8 @@ pub(crate) struct CertifiedClipper {
     flat: u64,
     /// The plane that left a polygon: its outward normal orients the cycle.
     support: usize,
+    /// Vertices `write` placed exactly (see `exact_vertex`).
+    pub exact_vertices: u16,
 }
 
 const DUMMY_PLANE: FloatPlane = FloatPlane {
@@ -417,6 +420,7 @@ impl CertifiedClipper {
             dim: 3,
             flat: 0,
             support: 0,
+            exact_vertices: 0,
         }
     }
 
@@ -439,6 +443,7 @@ impl CertifiedClipper {
         self.n_verts = 0;
         self.cuts = 0;
         self.cleared = 0;
+        self.exact_vertices = 0;
         self.closed_by_scene_face = None;
         self.dim = 3;
         self.flat = 0;
@@ -1341,9 +1346,14 @@ impl CertifiedClipper {
         let tol = ROUNDING_ULPS * f64::EPSILON;
         for v in 0..self.n_verts {
             let (x, r) = (self.pos[v], self.rad[v]);
-            let allowed = x.abs().max(DVec3::splat(self.magnitude)) * tol;
-            if !(x.is_finite() && r.cmple(allowed).all()) {
+            if !x.is_finite() {
                 return false;
+            }
+            let allowed = x.abs().max(DVec3::splat(self.magnitude)) * tol;
+            if !r.cmple(allowed).all() {
+                let Some(exact) = self.exact_vertex(v) else { return false };
+                self.pos[v] = exact;
+                self.exact_vertices += 1;
             }
         }
         if self.dim < 3 {
@@ -1411,6 +1421,34 @@ impl CertifiedClipper {
         out.face_start[nf] = ni as u16;
         out.n_faces = nf;
         true
+    }
+
+    /// Vertex `v` from the exact intersection of three of its planes,
+    /// each coordinate correctly rounded; `None` when no three of them meet
+    /// in a point.
+    ///
+    /// NOTE: for a vertex whose proven error exceeds the output tolerance
+    /// (planes meeting at small angles make the float estimate's bound
+    /// loose, typically by a factor of 1.1–3). Every plane recorded on a
+    /// vertex passes through it exactly, so any three independent ones give
+    /// it; the signs that placed it were proven already, so only its
+    /// coordinates need the big integers (and their allocation), not the
+    /// whole body.
+    #[cold]
+    fn exact_vertex(&self, v: usize) -> Option<DVec3> {
+        let planes: Vec<[Exact; 4]> = bits(self.on[v]).map(|p| self.planes[p].src.coefficients::<Exact>()).collect();
+        for i in 0..planes.len() {
+            for j in i + 1..planes.len() {
+                for k in j + 1..planes.len() {
+                    let h = intersect3(&planes[i], &planes[j], &planes[k]);
+                    if h[3].sign() != 0 {
+                        let x = DVec3::from_array(std::array::from_fn(|c| Exact::ratio_to_f64(&h[c], &h[3]) + 0.0));
+                        return x.is_finite().then_some(x);
+                    }
+                }
+            }
+        }
+        None
     }
 
     /// Writes a flat body (vertices checked by `write`): a point, a segment,

@@ -417,3 +417,28 @@ fn lights_in_a_face_plane_stay_on_the_float_path() {
         }
     }
 }
+
+/// A vertex whose float estimate is proven only loosely (its planes meet at
+/// a small angle: the bound is above the output tolerance) is placed from
+/// its planes' exact intersection, and the float path still answers the
+/// body. Fails if the float path declines or the body differs from the
+/// exact engine's.
+#[test]
+fn a_loosely_bounded_vertex_is_placed_exactly_on_the_float_path() {
+    let corners = [
+        [23.89472788401646, 2.0749077772560964, 6.35],
+        [23.89472788401646, 2.4250922227439036, 6.35],
+        [24.091706634603355, 2.4250922227439036, 6.35],
+        [24.091706634603355, 2.0749077772560964, 6.35],
+        [-24.337742438346105, -83.67170612916624, 55.32225734111483],
+        [-24.337742438346105, 88.17170612916624, 55.32225734111483],
+        [72.32417695696591, 88.17170612916624, 55.32225734111483],
+        [72.32417695696591, -83.67170612916624, 55.32225734111483],
+    ];
+    let view = Frustum::from_corners(corners.map(DVec3::from_array)).unwrap();
+    let light = Light::point(DVec3::new(18.98889081720511, 9.77587382772554, 6.25)).unwrap();
+    let scene = Aabb::new(DVec3::new(-6.675206755009029, -82.24755691894177, 8.141940478029543), DVec3::new(24.936930825898813, 61.09631574774872, 46.35613727956077)).unwrap();
+    let body = focus_body(&view, &light, &scene).unwrap();
+    assert!(body.stats().exact_evaluations > 0, "no vertex needed exact placement: {:?}", body.stats());
+    assert_float_path_matches_exact_engine(&body, &view, &light, &scene);
+}
