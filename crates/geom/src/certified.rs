@@ -1346,11 +1346,11 @@ impl CertifiedClipper {
         let tol = ROUNDING_ULPS * f64::EPSILON;
         for v in 0..self.n_verts {
             let (x, r) = (self.pos[v], self.rad[v]);
-            if !x.is_finite() {
-                return false;
-            }
             let allowed = x.abs().max(DVec3::splat(self.magnitude)) * tol;
-            if !r.cmple(allowed).all() {
+            if !(x.is_finite() && r.cmple(allowed).all()) {
+                if !x.is_finite() {
+                    return false;
+                }
                 let Some(exact) = self.exact_vertex(v) else { return false };
                 self.pos[v] = exact;
                 self.exact_vertices += 1;
