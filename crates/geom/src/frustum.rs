@@ -385,13 +385,7 @@ impl Frustum {
         if hand == 0 {
             return Err(GeomError::DegenerateFrustum { what, reason: "all corners are coplanar" });
         }
-        // NOTE: built inside the value returned, not moved into it at the
-        // end: a frustum is ~900 bytes, and the move was a copy per call.
-        let mut built = Ok(Frustum { corners, faces: [[0; 4]; MAX_FRUSTUM_FACES], faces_len: [0; MAX_FRUSTUM_FACES], n_faces: 0, coplanar_faces: false, in_range, edge_face: [[u8::MAX; 8]; 8], normals: [DVec3::ZERO; MAX_FRUSTUM_FACES], abs_normals: [DVec3::ZERO; MAX_FRUSTUM_FACES] });
-        let f = match &mut built {
-            Ok(f) => f,
-            Err(_) => return built,
-        };
+        let mut f = Frustum { corners, faces: [[0; 4]; MAX_FRUSTUM_FACES], faces_len: [0; MAX_FRUSTUM_FACES], n_faces: 0, coplanar_faces: false, in_range, edge_face: [[u8::MAX; 8]; 8], normals: [DVec3::ZERO; MAX_FRUSTUM_FACES], abs_normals: [DVec3::ZERO; MAX_FRUSTUM_FACES] };
         // Per face: the corners off the quad it comes from.
         let mut off_quad = [[0u8; 4]; MAX_FRUSTUM_FACES];
         for (quad, others) in QUADS.iter().zip(QUAD_OTHERS) {
@@ -438,7 +432,7 @@ impl Frustum {
                 return Err(GeomError::DegenerateFrustum { what, reason: "a face is degenerate (coincident or collinear corners)" });
             }
         }
-        built
+        Ok(f)
     }
 
     fn push_face(&mut self, idx: &[u8]) {
