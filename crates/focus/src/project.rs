@@ -266,15 +266,17 @@ pub(crate) fn crop(m: &DMat4, pts: &[DVec3], origin: DVec3) -> Option<Cropped> {
 
     let (x, y, z, w) = (m.row(0), m.row(1), m.row(2), m.row(3));
     let centred = [x - w * centre.x, y - w * centre.y, z - w * centre.z, w];
-    let rel = from_rows(centred[0], centred[1], centred[2], centred[3]) * DMat4::from_translation(origin);
-    // Row magnitudes, scaled by the error constants, for the bounds below.
-    let abs64 = centred.map(|r| r.abs() * (K * U64));
-    let abs32: [DVec4; 4] = std::array::from_fn(|r| rel.row(r).abs() * (K * U32));
-    // NOTE: with the f32 origin at zero both terms weigh the same |p|, so one
-    // dot product of the summed rows replaces two. Both are sums of
+    // NOTE: with the f32 origin at zero the rows relative to it are the
+    // rows themselves (a product with the identity is exact), so the matrix
+    // product is skipped; and both error terms below weigh the same |p|, so
+    // one dot product of the summed rows replaces two. Both are sums of
     // non-negative terms; their roundings differ by a few u₆₄, well inside
     // the 4u₃₂ margin applied below.
     let at_origin = origin == DVec3::ZERO;
+    let rel = if at_origin { centred } else { (from_rows(centred[0], centred[1], centred[2], centred[3]) * DMat4::from_translation(origin)).transpose().to_cols_array_2d().map(DVec4::from_array) };
+    // Row magnitudes, scaled by the error constants, for the bounds below.
+    let abs64 = centred.map(|r| r.abs() * (K * U64));
+    let abs32: [DVec4; 4] = rel.map(|r| r.abs() * (K * U32));
     let abs_both: [DVec4; 4] = std::array::from_fn(|r| abs64[r] + abs32[r]);
     let mut f32_exact = true;
     for p in pts {
