@@ -72,38 +72,34 @@ fn minor(x0: i128, y1: i128, x1: i128, y0: i128) -> (i128, i128) {
 /// determinant), or `None` when an axis's coordinates span too many
 /// binades or reach below the normal range. Inputs must be finite.
 pub(crate) fn orient_det_sign(p: [f64; 3], q: [f64; 3], r: [f64; 3], x: [f64; 3]) -> Option<i8> {
-    /// Exponent of the last mantissa bit of a positive normal `v`.
-    fn unit_exponent(v: f64) -> i32 {
-        (v.to_bits() >> 52) as i32 - 1075
-    }
     let points = [p, q, r, x];
-    let mut int = [[0i128; 3]; 4];
+    let mut scale = [0.0f64; 3];
     let mut narrow = true;
-    for axis in 0..3 {
+    for (axis, scale) in scale.iter_mut().enumerate() {
         // NOTE: only the largest and the smallest nonzero magnitude of the
         // axis are decomposed. Scaled by 2^-e (e: the smallest one's last
         // mantissa bit) every coordinate of the axis is an integer, since
         // larger magnitudes have their last bit at or above it; the scaling
         // is exact, and so is the conversion of those integers below.
-        // NOTE: plain comparisons (inputs are finite): `f64::max` and `min`
-        // pay for NaN handling.
-        let (mut largest, mut smallest) = (0.0f64, f64::INFINITY);
+        // NOTE: magnitudes compared as bit patterns (ordered like the values
+        // for non-negative floats; inputs are finite), with zero mapped past
+        // every other so that it is never the smallest: integer min and max,
+        // no branches.
+        let (mut largest, mut smallest) = (0u64, u64::MAX);
         for point in &points {
-            let a = point[axis].abs();
-            if a > largest {
-                largest = a;
-            }
-            if a > 0.0 && a < smallest {
-                smallest = a;
-            }
+            let bits = point[axis].to_bits() & !(1 << 63);
+            largest = largest.max(bits);
+            smallest = smallest.min(if bits == 0 { u64::MAX } else { bits });
         }
-        if largest == 0.0 {
+        if largest == 0 {
             // Every difference has a zero in this column.
             return Some(0);
         }
-        // The scale 2^-e must be a normal f64: e ≥ −1022.
+        // Exponent of the last mantissa bit; the scale 2^-e must be a
+        // normal f64 (e ≥ −1022), and subnormals are declined.
+        let unit_exponent = |bits: u64| (bits >> 52) as i32 - 1075;
         let e = unit_exponent(smallest);
-        if smallest < f64::MIN_POSITIVE || e < -1022 {
+        if smallest < f64::MIN_POSITIVE.to_bits() || e < -1022 {
             return None;
         }
         let spread = unit_exponent(largest) - e;
@@ -111,13 +107,15 @@ pub(crate) fn orient_det_sign(p: [f64; 3], q: [f64; 3], r: [f64; 3], x: [f64; 3]
             return None;
         }
         narrow &= spread <= NARROW_SPREAD;
-        let scale = f64::from_bits(((1023 - e) as u64) << 52);
-        for (k, point) in points.iter().enumerate() {
-            let v = point[axis] * scale;
-            int[k][axis] = if spread <= NARROW_SPREAD { v as i64 as i128 } else { to_integer(v) };
-        }
+        *scale = f64::from_bits(((1023 - e) as u64) << 52);
     }
-    Some(if narrow { narrow_det_sign(&int.map(|point| point.map(|c| c as i64))) } else { wide_det_sign(&int) })
+    // NOTE: the short path converts straight to i64 (one instruction per
+    // coordinate); only the long one needs `to_integer`'s split.
+    Some(if narrow {
+        narrow_det_sign(&points.map(|point| std::array::from_fn(|a| (point[a] * scale[a]) as i64)))
+    } else {
+        wide_det_sign(&points.map(|point| std::array::from_fn(|a| to_integer(point[a] * scale[a]))))
+    })
 }
 
 /// An integer-valued `f64` below 2^76 in magnitude, exactly, as an `i128`.
