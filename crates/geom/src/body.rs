@@ -467,11 +467,12 @@ fn clip_certified(fast: &mut CertifiedClipper, plan: &Plan, view: &Frustum, ligh
 ///
 /// Every case first runs a floating-point clipper whose every sign is
 /// proven by an error bound, and whose output coordinates are proven within
-/// [`crate::ROUNDING_ULPS`] of the exact ones; when a bound cannot prove a
-/// decision (coincidences the construction does not explain, such as a
-/// light in a frustum face's plane, or near-degenerate input) the case is computed again by
-/// the exact engine. Both give the same exact body; [`FocusStats::float_path`]
-/// says which one answered.
+/// [`crate::ROUNDING_ULPS`] of the exact ones (a vertex whose bound is
+/// looser is placed from its planes' exact intersection); when a bound
+/// cannot prove a decision (coincidences the construction does not explain,
+/// such as a frustum corner in another face's plane, or near-degenerate
+/// input) the case is computed again by the exact engine. Both give the same
+/// exact body; [`FocusStats::float_path`] says which one answered.
 ///
 /// Work skipped when a case does not need it:
 /// - `L` is clipped only for spot lights;

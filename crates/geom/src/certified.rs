@@ -33,6 +33,15 @@
 //! keeps, per vertex, the set of planes it lies on, and clips through
 //! on-plane vertices without creating new ones.
 //!
+//! A light in the plane of frustum faces merges each such face with the
+//! light into one face of the hull (`reset_to_merged_hull`): exact
+//! beneath–beyond signs decide which corners remain vertices.
+//!
+//! A vertex whose proven bound is above the output tolerance at the end
+//! (planes meeting at a small angle) is placed from the exact intersection
+//! of three of its planes (big integers), its combinatorics being proven
+//! already; only such vertices pay for exact arithmetic.
+//!
 //! Flat results are exact coincidences too: a plane that leaves nothing
 //! strictly inside leaves the body's face on it (its vertices, whose zero
 //! signs are exact), a polygon, a segment or a point, which later planes
@@ -449,8 +458,9 @@ impl CertifiedClipper {
         self.flat = 0;
         self.fold_keys = [(NONE, NONE); FOLD_CACHE];
         // NOTE: beneath–beyond takes the frustum's faces as the hull's; when
-        // faces are coplanar the hull's faces differ (merged, with corners
-        // inside them), so such frusta go to the exact engine.
+        // a corner lies in another face's plane the frustum's own faces merge
+        // (with corners inside them), so such frusta go to the exact engine.
+        // (A light in a face's plane is built below.)
         if !view.faces_are_hull_faces() || hull.len() + 1 > MAX_FAST_PLANES {
             return Step::Uncertain;
         }
