@@ -15,15 +15,22 @@
 
 use glam::DVec3;
 
-/// Nearest point to the origin of the simplex `w[..n]` (n ≤ 4); keeps in
-/// `w` only the vertices of the smallest face containing it.
+/// Nearest point to the origin of the simplex `w[..n]` (n ≤ 4) among its
+/// faces through the newest vertex `w[n − 1]`; keeps in `w` only the
+/// vertices of the smallest face containing it.
+///
+/// NOTE: GJK adds a support point only when it brings the hull closer to the
+/// origin, and then the nearest point of the new simplex lies on a face
+/// through it; the other faces (half of all) need not be tried. Should
+/// rounding make another face nearer, the iteration simply goes on: the
+/// axis is checked against every direction afterwards (`travel_axis`).
 fn nearest_on_simplex(w: &mut [DVec3; 4], n: &mut usize) -> DVec3 {
     let pts = *w;
     let count = *n;
     let mut best = (f64::INFINITY, DVec3::ZERO, 0u8);
-    // Every non-empty subset (≤ 15): its affine hull's nearest point, kept
-    // if its barycentric coordinates are all positive.
-    for mask in 1u8..(1 << count) {
+    // Every subset holding the newest vertex (≤ 8): its affine hull's
+    // nearest point, kept if its barycentric coordinates are all positive.
+    for mask in (1u8 << (count - 1))..(1 << count) {
         let mut idx = [0usize; 4];
         for (slot, i) in idx.iter_mut().zip((0..count).filter(|i| mask & (1 << i) != 0)) {
             *slot = i;
