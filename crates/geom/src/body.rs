@@ -422,11 +422,7 @@ impl Plan {
 fn plan_into(plan: &mut Plan, view: &Frustum, light: &Light, scene: &Aabb) -> Result<bool, GeomError> {
     let Some((start, scene_clip_skipped)) = start_box(view, light, scene) else { return Ok(false) };
     view.hull_outline_into(light.apex(), &mut plan.outline)?;
-    plan.spot = false;
-    if let Light::Spot { frustum, .. } = light {
-        frustum.planes_into(&mut plan.light_planes);
-        plan.spot = true;
-    }
+    plan.spot = matches!(light, Light::Spot { .. });
     plan.start = start;
     // NOTE: a directional light's hull reaches past S whatever V does; a
     // point light's hull lies in S when V and the light do (convexity).
@@ -437,6 +433,9 @@ fn plan_into(plan: &mut Plan, view: &Frustum, light: &Light, scene: &Aabb) -> Re
 /// The exact engine: every decision exact, vertices kept unrounded.
 fn clip_exactly(work: &mut Polytope, plan: &mut Plan, view: &Frustum, light: &Light) -> Result<(), GeomError> {
     view.hull_planes_into(light.apex(), &plan.outline, &mut plan.hull);
+    if let Light::Spot { frustum, .. } = light {
+        frustum.planes_into(&mut plan.light_planes);
+    }
     work.reset_to_aabb(&plan.start);
     work.clip_all(plan.hull.as_slice())?;
     if let Some(l) = plan.light_planes() {
@@ -456,8 +455,8 @@ fn clip_certified(fast: &mut CertifiedClipper, plan: &Plan, view: &Frustum, ligh
     if step == Step::Nonempty && !plan.scene_clip_skipped {
         step = fast.clip_box(scene);
     }
-    if let (Step::Nonempty, Some(l)) = (step, plan.light_planes()) {
-        step = fast.clip_set(l, true);
+    if let (Step::Nonempty, Light::Spot { frustum, .. }) = (step, light) {
+        step = fast.clip_frustum(frustum);
     }
     step
 }
@@ -529,7 +528,11 @@ fn compute(out: &mut Body, view: &Frustum, light: &Light, scene: &Aabb, float_pa
 fn compute_planned(out: &mut Body, plan: &mut Plan, view: &Frustum, light: &Light, scene: &Aabb, float_path: bool, skip: bool, mut stats: FocusStats) -> Result<(), GeomError> {
     plan.scene_clip_skipped &= skip;
     stats.scene_clip_skipped = plan.scene_clip_skipped;
-    stats.planes_offered = (plan.outline.len() + plan.light_planes().map_or(0, |l| l.as_slice().len())) as u16;
+    let light_faces = match light {
+        Light::Spot { frustum, .. } => frustum.face_count(),
+        _ => 0,
+    };
+    stats.planes_offered = (plan.outline.len() + light_faces) as u16;
 
     let mut answered = false;
     if float_path {

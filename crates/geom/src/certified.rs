@@ -48,7 +48,7 @@
 //! clip like a solid with one dimension fewer.
 
 use crate::body::{Aabb, Body};
-use crate::frustum::{abs_cross, corner_bits, creased_pair, Apex, Frustum, HullOutline, Origin, PlaneSet, APEX_BIT};
+use crate::frustum::{abs_cross, corner_bits, creased_pair, Apex, Frustum, HullOutline, Origin, APEX_BIT};
 use crate::number::Exact;
 use crate::plane::{intersect3, Plane};
 use crate::polytope::{point_side, ROUNDING_ULPS};
@@ -480,7 +480,7 @@ impl CertifiedClipper {
                 self.magnitude = self.magnitude.max(p.abs().max_element());
             }
         }
-        if hull.apex_coplanar {
+        if hull.coplanar != 0 {
             return self.reset_to_merged_hull(view, apex, hull, scene);
         }
         // Vertex ids of the input points (frustum corners 0–7, light 8) and
@@ -787,24 +787,28 @@ impl CertifiedClipper {
         (lo, hi)
     }
 
-    /// Clips by every plane of a set (`light_frustum`: the set is the light
-    /// frustum's, whose corners are input points 9–16).
+    /// Clips by the faces of a spot light's frustum (its corners are input
+    /// points 9–16), each built from the normal the frustum's validation
+    /// computed.
     ///
     /// As in `clip_box`, a plane the body's bounding box lies strictly
     /// inside of is not clipped.
-    pub(crate) fn clip_set(&mut self, set: &PlaneSet, light_frustum: bool) -> Step {
+    pub(crate) fn clip_frustum(&mut self, frustum: &Frustum) -> Step {
         let (lo, hi) = self.bounds();
         // NOTE: the box as a point known within a radius: the radius is
         // rounded up past both half-extents, so the side test's bound covers
         // every point of the box.
         let centre = (lo + hi) * 0.5;
         let radius = (hi - centre).max(centre - lo) * (1.0 + 4.0 * U);
-        for (p, &through) in set.as_slice().iter().zip(set.through()) {
-            let through = if light_frustum { through << LIGHT_FRUSTUM_SHIFT } else { through };
+        let corners = frustum.corners();
+        for f in 0..frustum.face_count() {
+            let face = frustum.face(f);
+            let through = corner_bits(face) << LIGHT_FRUSTUM_SHIFT;
+            let (n, abs_n) = frustum.face_normal(f);
             // Staged in the next free slot: a cleared plane is overwritten
             // by the next one.
             let Some(slot) = self.next_slot() else { return Step::Uncertain };
-            *slot = FloatPlane::new(*p, through);
+            *slot = FloatPlane::through_points(frustum.face_plane(f), corners[face[0] as usize], n, abs_n, through);
             let (s, e) = slot.side(centre, radius);
             if decide(s, e) == Some(-1) {
                 self.cleared += 1;

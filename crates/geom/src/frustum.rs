@@ -67,7 +67,7 @@ impl Apex {
     }
 }
 
-/// Bit of the hull apex in [`PlaneSet::through`] (bits 0–7 are corners).
+/// Bit of the hull apex in [`HullOutline::through`] (bits 0–7 are corners).
 pub(crate) const APEX_BIT: u32 = 1 << 8;
 
 /// Where a plane of a frustum hull comes from (see [`HullOutline`]).
@@ -84,13 +84,6 @@ pub(crate) enum Origin {
 #[derive(Clone, Copy, Debug)]
 pub struct PlaneSet {
     planes: [Plane; 2 * MAX_FRUSTUM_FACES],
-    /// Some face's plane contains the apex (the hull's faces are then not
-    /// all distinct planes).
-    pub(crate) apex_coplanar: bool,
-    /// Per plane, the frustum corners (bits 0–7) and the finite hull apex
-    /// ([`APEX_BIT`]) it passes through by construction: exact incidences
-    /// known without arithmetic.
-    through: [u32; 2 * MAX_FRUSTUM_FACES],
     len: usize,
 }
 
@@ -98,26 +91,19 @@ impl PlaneSet {
     pub(crate) fn new() -> Self {
         PlaneSet {
             planes: [Plane::Axis { axis: 0, upper: true, value: 0.0 }; 2 * MAX_FRUSTUM_FACES],
-            through: [0; 2 * MAX_FRUSTUM_FACES],
-            apex_coplanar: false,
             len: 0,
         }
     }
     fn clear(&mut self) {
         self.len = 0;
-        self.apex_coplanar = false;
     }
-    fn push(&mut self, p: Plane, through: u32) {
+    fn push(&mut self, p: Plane) {
         // Capacity: kept faces + horizon edges ≤ 12 + 12 for a frustum hull.
         self.planes[self.len] = p;
-        self.through[self.len] = through;
         self.len += 1;
     }
     pub fn as_slice(&self) -> &[Plane] {
         &self.planes[..self.len]
-    }
-    pub(crate) fn through(&self) -> &[u32] {
-        &self.through[..self.len]
     }
 }
 
@@ -131,19 +117,20 @@ impl PlaneSet {
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct HullOutline {
     origin: [Origin; 2 * MAX_FRUSTUM_FACES],
-    /// As [`PlaneSet::through`].
+    /// Per plane, the frustum corners (bits 0–7) and the finite hull apex
+    /// ([`APEX_BIT`]) it passes through by construction: exact incidences
+    /// known without arithmetic.
     through: [u32; 2 * MAX_FRUSTUM_FACES],
     len: usize,
-    /// As [`PlaneSet::apex_coplanar`].
-    pub(crate) apex_coplanar: bool,
-    /// Faces the apex lies strictly beyond, and faces whose plane holds it.
+    /// Faces the apex lies strictly beyond, and faces whose plane holds it
+    /// (the hull's faces are then not all distinct planes of the frustum's).
     pub(crate) sees: u16,
     pub(crate) coplanar: u16,
 }
 
 impl HullOutline {
     pub(crate) fn new() -> HullOutline {
-        HullOutline { origin: [Origin::Face(0); 2 * MAX_FRUSTUM_FACES], through: [0; 2 * MAX_FRUSTUM_FACES], len: 0, apex_coplanar: false, sees: 0, coplanar: 0 }
+        HullOutline { origin: [Origin::Face(0); 2 * MAX_FRUSTUM_FACES], through: [0; 2 * MAX_FRUSTUM_FACES], len: 0, sees: 0, coplanar: 0 }
     }
 
     pub(crate) fn len(&self) -> usize {
@@ -166,7 +153,7 @@ impl HullOutline {
     }
 }
 
-/// Whether two corner masks (as in [`PlaneSet::through`]) are the two
+/// Whether two corner masks (as in [`HullOutline::through`]) are the two
 /// triangles of one creased quad.
 ///
 /// Two proper parts of a quad that share two corners and together hold all
@@ -496,7 +483,7 @@ impl Frustum {
     pub(crate) fn planes_into(&self, out: &mut PlaneSet) {
         out.clear();
         for i in 0..self.face_count() {
-            out.push(self.face_plane(i), corner_bits(self.face(i)));
+            out.push(self.face_plane(i));
         }
     }
 
@@ -530,9 +517,8 @@ impl Frustum {
     /// the same apex.
     pub(crate) fn hull_planes_into(&self, apex: Apex, outline: &HullOutline, out: &mut PlaneSet) {
         out.clear();
-        out.apex_coplanar = outline.apex_coplanar;
-        for (&origin, &through) in outline.origins().iter().zip(outline.through()) {
-            out.push(self.hull_plane(apex, origin), through);
+        for &origin in outline.origins() {
+            out.push(self.hull_plane(apex, origin));
         }
     }
 
@@ -555,7 +541,6 @@ impl Frustum {
     /// plane comes from.
     pub(crate) fn hull_outline_into(&self, apex: Apex, out: &mut HullOutline) -> Result<(), GeomError> {
         out.len = 0;
-        out.apex_coplanar = false;
         out.sees = 0;
         out.coplanar = 0;
         match apex {
@@ -595,7 +580,7 @@ impl Frustum {
             sees |= u16::from(side > 0) << i;
             coplanar |= u16::from(side == 0) << i;
         }
-        (out.sees, out.coplanar, out.apex_coplanar) = (sees, coplanar, coplanar != 0);
+        (out.sees, out.coplanar) = (sees, coplanar);
         let apex_bit = match apex {
             Apex::Finite(_) => APEX_BIT,
             Apex::Infinite(_) => 0,
