@@ -139,6 +139,15 @@ impl FloatPlane {
         FloatPlane::general(src, cross, abs_cross * (4.0 * U * SLACK), p, 0.0, through)
     }
 
+    /// The plane of face `f` of a validated frustum, from the cross product
+    /// its validation computed.
+    #[inline(always)]
+    fn of_face(frustum: &Frustum, f: usize, through: u32) -> FloatPlane {
+        let (n, abs_n) = frustum.face_normal(f);
+        let p = frustum.corners()[frustum.face(f)[0] as usize];
+        FloatPlane::through_points(frustum.face_plane(f), p, n, abs_n, through)
+    }
+
     /// `x[axis] ≤ value` (`upper`) or `≥ value`: exact, through no input point.
     fn axis(axis: u8, upper: bool, value: f64) -> FloatPlane {
         let mut n = DVec3::ZERO;
@@ -489,11 +498,7 @@ impl CertifiedClipper {
         let mut shadow = [NONE; 8];
         for (p, (&through, &origin)) in hull.through().iter().zip(hull.origins()).enumerate() {
             self.planes[p] = match origin {
-                // The frustum computed this cross product when it was validated.
-                Origin::Face(f) => {
-                    let (n, abs_n) = view.face_normal(f as usize);
-                    FloatPlane::through_points(view.face_plane(f as usize), corners[view.face(f as usize)[0] as usize], n, abs_n, through)
-                }
+                Origin::Face(f) => FloatPlane::of_face(view, f as usize, through),
                 Origin::Horizon(..) => FloatPlane::new(view.hull_plane(apex, origin), through),
             };
             self.partners[p] = 0;
@@ -585,9 +590,7 @@ impl CertifiedClipper {
                 Origin::Face(f) => {
                     let holds_light = coplanar & 1 << f != 0;
                     with_light |= u64::from(holds_light) << np;
-                    let (n, abs_n) = view.face_normal(f as usize);
-                    let p = view.corners()[view.face(f as usize)[0] as usize];
-                    FloatPlane::through_points(view.face_plane(f as usize), p, n, abs_n, through | if holds_light { apex_bit } else { 0 })
+                    FloatPlane::of_face(view, f as usize, through | if holds_light { apex_bit } else { 0 })
                 }
                 Origin::Horizon(a, b) => match view.face_with_edge(b, a) {
                     Some(g) if beneath & 1 << g != 0 => {
@@ -636,16 +639,9 @@ impl CertifiedClipper {
             if !two_or_more(along[c]) {
                 continue;
             }
-            if self.n_verts >= CAP_V {
+            if self.push_shadow(c, along[c] | 1 << cap, cap, toward).is_none() {
                 return Step::Uncertain;
             }
-            let Some((pos, rad)) = line_crossing(self.points[c], toward, false, &self.planes[cap]) else { return Step::Uncertain };
-            let v = self.n_verts;
-            self.pos[v] = pos;
-            self.rad[v] = rad;
-            self.on[v] = along[c] | 1 << cap;
-            self.is_point[v] = 0;
-            self.n_verts += 1;
             shadows += 1;
         }
         if shadows < 3 {
@@ -714,28 +710,34 @@ impl CertifiedClipper {
     /// Where the light's ray through frustum corner `c` meets the closing
     /// plane: on the two horizon planes through `c` and the closing plane.
     fn shadow_vertex(&mut self, hull: &HullOutline, c: u8, cap: usize, toward: DVec3) -> Option<u8> {
-        let mut sides = [0usize; 2];
-        let mut n = 0;
-        for (p, origin) in hull.origins().iter().enumerate() {
-            if let Origin::Horizon(a, b) = *origin {
-                if a == c || b == c {
-                    if n == 2 {
-                        return None;
-                    }
-                    sides[n] = p;
-                    n += 1;
+        let mut through_c = 0;
+        for origin in hull.origins() {
+            if matches!(*origin, Origin::Horizon(a, b) if a == c || b == c) {
+                if through_c == 2 {
+                    return None;
                 }
+                through_c += 1;
             }
         }
-        if n != 2 || self.n_verts >= CAP_V {
+        if through_c != 2 {
+            return None;
+        }
+        self.push_shadow(c as usize, 1 << cap, cap, toward)
+    }
+
+    /// Appends the vertex where the ray from corner `c` toward the light
+    /// meets the closing plane `cap`, on the planes `on`.
+    #[inline(always)]
+    fn push_shadow(&mut self, c: usize, on: u64, cap: usize, toward: DVec3) -> Option<u8> {
+        if self.n_verts >= CAP_V {
             return None;
         }
         // On the ray from the corner toward the light (both exact).
-        let (pos, rad) = line_crossing(self.points[c as usize], toward, false, &self.planes[cap])?;
+        let (pos, rad) = line_crossing(self.points[c], toward, false, &self.planes[cap])?;
         let v = self.n_verts;
         self.pos[v] = pos;
         self.rad[v] = rad;
-        self.on[v] = 1 << cap;
+        self.on[v] = on;
         self.is_point[v] = 0;
         self.n_verts += 1;
         Some(v as u8)
@@ -800,15 +802,12 @@ impl CertifiedClipper {
         // every point of the box.
         let centre = (lo + hi) * 0.5;
         let radius = (hi - centre).max(centre - lo) * (1.0 + 4.0 * U);
-        let corners = frustum.corners();
         for f in 0..frustum.face_count() {
-            let face = frustum.face(f);
-            let through = corner_bits(face) << LIGHT_FRUSTUM_SHIFT;
-            let (n, abs_n) = frustum.face_normal(f);
+            let through = corner_bits(frustum.face(f)) << LIGHT_FRUSTUM_SHIFT;
             // Staged in the next free slot: a cleared plane is overwritten
             // by the next one.
             let Some(slot) = self.next_slot() else { return Step::Uncertain };
-            *slot = FloatPlane::through_points(frustum.face_plane(f), corners[face[0] as usize], n, abs_n, through);
+            *slot = FloatPlane::of_face(frustum, f, through);
             let (s, e) = slot.side(centre, radius);
             if decide(s, e) == Some(-1) {
                 self.cleared += 1;

@@ -541,8 +541,6 @@ impl Frustum {
     /// plane comes from.
     pub(crate) fn hull_outline_into(&self, apex: Apex, out: &mut HullOutline) -> Result<(), GeomError> {
         out.len = 0;
-        out.sees = 0;
-        out.coplanar = 0;
         match apex {
             Apex::Finite(l) => check_finite(l, "hull apex")?,
             Apex::Infinite(d) => {
