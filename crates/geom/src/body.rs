@@ -393,8 +393,7 @@ struct Plan {
     /// the exact engine (see [`clip_exactly`]).
     outline: HullOutline,
     hull: PlaneSet,
-    /// `L`'s planes, for a spot light only.
-    spot: bool,
+    /// A spot light's frustum planes, filled like `hull`.
     light_planes: PlaneSet,
 }
 
@@ -405,13 +404,8 @@ impl Plan {
             scene_clip_skipped: false,
             outline: HullOutline::new(),
             hull: PlaneSet::new(),
-            spot: false,
             light_planes: PlaneSet::new(),
         }
-    }
-
-    fn light_planes(&self) -> Option<&PlaneSet> {
-        self.spot.then_some(&self.light_planes)
     }
 }
 
@@ -422,7 +416,6 @@ impl Plan {
 fn plan_into(plan: &mut Plan, view: &Frustum, light: &Light, scene: &Aabb) -> Result<bool, GeomError> {
     let Some((start, scene_clip_skipped)) = start_box(view, light, scene) else { return Ok(false) };
     view.hull_outline_into(light.apex(), &mut plan.outline)?;
-    plan.spot = matches!(light, Light::Spot { .. });
     plan.start = start;
     // NOTE: a directional light's hull reaches past S whatever V does; a
     // point light's hull lies in S when V and the light do (convexity).
@@ -433,13 +426,11 @@ fn plan_into(plan: &mut Plan, view: &Frustum, light: &Light, scene: &Aabb) -> Re
 /// The exact engine: every decision exact, vertices kept unrounded.
 fn clip_exactly(work: &mut Polytope, plan: &mut Plan, view: &Frustum, light: &Light) -> Result<(), GeomError> {
     view.hull_planes_into(light.apex(), &plan.outline, &mut plan.hull);
-    if let Light::Spot { frustum, .. } = light {
-        frustum.planes_into(&mut plan.light_planes);
-    }
     work.reset_to_aabb(&plan.start);
     work.clip_all(plan.hull.as_slice())?;
-    if let Some(l) = plan.light_planes() {
-        work.clip_all(l.as_slice())?;
+    if let Light::Spot { frustum, .. } = light {
+        frustum.planes_into(&mut plan.light_planes);
+        work.clip_all(plan.light_planes.as_slice())?;
     }
     Ok(())
 }
