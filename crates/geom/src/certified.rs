@@ -370,6 +370,8 @@ pub(crate) struct CertifiedClipper {
     inside_on: [VertexSet; MAX_FAST_PLANES],
     /// `write`'s scratch: per plane, the vertices on it (a vertex set).
     plane_members: [VertexSet; MAX_FAST_PLANES],
+    /// `write`'s scratch: per vertex, the vertices it shares an edge with.
+    neighbours: [VertexSet; CAP_V],
     /// Plane pairs `(i, k)` whose fold proxy is in `fold_proxies` (same
     /// slot), failures included (`None`).
     ///
@@ -430,6 +432,7 @@ impl CertifiedClipper {
             sign: [0; CAP_V],
             inside_on: [0; MAX_FAST_PLANES],
             plane_members: [0; MAX_FAST_PLANES],
+            neighbours: [0; CAP_V],
             fold_keys: [(NONE, NONE); FOLD_CACHE],
             fold_proxies: [None; FOLD_CACHE],
             cuts: 0,
@@ -1387,6 +1390,17 @@ impl CertifiedClipper {
                 count[p] += 1;
             }
         }
+        // NOTE: two vertices of a solid span an edge exactly when they share
+        // two planes (see `cut`); found once per vertex here, each face's
+        // chaining is then one set operation per step.
+        for v in 0..self.n_verts {
+            let (mut once, mut twice): (VertexSet, VertexSet) = (0, 0);
+            for p in bits(self.on[v]) {
+                twice |= once & self.plane_members[p];
+                once |= self.plane_members[p];
+            }
+            self.neighbours[v] = twice & !(1 << v);
+        }
         out.clear();
         let (mut ni, mut nf) = (0, 0);
         let mut face_of_plane = [NONE; MAX_FAST_PLANES];
@@ -1406,7 +1420,7 @@ impl CertifiedClipper {
                 for slot in &mut out.idx[ni..ni + 3] {
                     *slot = on_p.next().unwrap_or(0) as u16;
                 }
-            } else if self.face_cycle(self.plane_members[p], !(1 << p), m, &mut out.idx[ni..ni + m]).is_none() {
+            } else if self.face_cycle(self.plane_members[p], m, &mut out.idx[ni..ni + m]).is_none() {
                 return false;
             }
             let cycle = &out.idx[ni..ni + m];
@@ -1488,8 +1502,12 @@ impl CertifiedClipper {
                     members[p] |= 1 << v;
                 }
             }
+            for v in 0..n {
+                let near = bits(self.on[v] & edges).fold(0, |near, p| near | self.plane_members[p]);
+                self.neighbours[v] = near & !(1 << v);
+            }
             let all: VertexSet = u64::MAX >> (64 - n);
-            if self.face_cycle(all, edges, n, &mut out.idx[..n]).is_none() {
+            if self.face_cycle(all, n, &mut out.idx[..n]).is_none() {
                 return false;
             }
             let Some(reverse) = self.reversed_by_geometry(self.support, edges, &out.idx[..n]) else { return false };
@@ -1552,30 +1570,24 @@ impl CertifiedClipper {
 
     /// Writes the `m` vertices of `face` (a vertex set) into `cycle`,
     /// chained through its edges in either direction; `None` when the chain
-    /// does not close. Two vertices of the face are adjacent when they share
-    /// a plane of `others` (all planes but the face's own for a solid's face,
-    /// all but the flat planes for a polygon). Needs `plane_members` for
-    /// those planes.
-    fn face_cycle(&self, face: VertexSet, others: u64, m: usize, cycle: &mut [u16]) -> Option<()> {
+    /// does not close. Needs `neighbours`: within a solid's face, a vertex's
+    /// neighbours are its two ends of the face's edges; in a polygon, the
+    /// vertices sharing an edge plane with it.
+    fn face_cycle(&self, face: VertexSet, m: usize, cycle: &mut [u16]) -> Option<()> {
         // NOTE: each edge of a face lies on a different other plane, so a
         // face has fewer vertices than there are planes; more means the
         // incidences are broken.
         if m >= MAX_FAST_PLANES {
             return None;
         }
-        // The current vertex's neighbours are the face's vertices on its
-        // other planes. Each step takes the lowest one that is neither the
-        // vertex itself nor the one it came from.
+        // Each step takes the lowest neighbour in the face that is not the
+        // vertex it came from.
         let first = face.trailing_zeros() as usize;
         let (mut prev, mut cur) = (first, first);
         let mut placed: VertexSet = 1 << first;
         cycle[0] = first as u16;
         for slot in cycle.iter_mut().take(m).skip(1) {
-            let mut near: VertexSet = 0;
-            for q in bits(self.on[cur] & others) {
-                near |= self.plane_members[q];
-            }
-            let near = near & face & !(1 << cur) & !(1 << prev);
+            let near = self.neighbours[cur] & face & !(1 << prev);
             if near == 0 {
                 return None;
             }
@@ -1587,7 +1599,7 @@ impl CertifiedClipper {
             *slot = next as u16;
             (prev, cur) = (cur, next);
         }
-        if self.on[cur] & self.on[first] & others == 0 {
+        if self.neighbours[cur] & 1 << first == 0 {
             return None;
         }
         Some(())
