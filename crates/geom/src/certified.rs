@@ -366,8 +366,6 @@ pub(crate) struct CertifiedClipper {
     n_verts: usize,
     magnitude: f64,
     sign: [i8; CAP_V],
-    /// `cut`'s scratch: per plane, the inside vertices on it (a vertex set).
-    inside_on: [VertexSet; MAX_FAST_PLANES],
     /// `write`'s scratch: per plane, the vertices on it (a vertex set).
     plane_members: [VertexSet; MAX_FAST_PLANES],
     /// `write`'s scratch: per vertex, the vertices it shares an edge with.
@@ -430,7 +428,6 @@ impl CertifiedClipper {
             n_verts: 0,
             magnitude: 0.0,
             sign: [0; CAP_V],
-            inside_on: [0; MAX_FAST_PLANES],
             plane_members: [0; MAX_FAST_PLANES],
             neighbours: [0; CAP_V],
             fold_keys: [(NONE, NONE); FOLD_CACHE],
@@ -1264,22 +1261,10 @@ impl CertifiedClipper {
         let (mut outside, mut n_out) = ([0u8; CAP_V], 0);
         let bit = 1u64 << k;
         let mut on_k = 0;
-        // Inside vertices on each plane, as sets of vertex slots; an outside
-        // vertex's inside neighbours are those in two of its planes' sets
-        // (in one, for a polygon: its flat planes are left out).
-        // NOTE: only the planes so far are cleared (the set is kept in the
-        // clipper): clearing all of it was a 768-byte memset per cut.
-        let inside_on = &mut self.inside_on[..=k];
-        inside_on.fill(0);
         let mut inside: VertexSet = 0;
         for v in 0..old_n {
             match self.sign[v] {
-                s if s < 0 => {
-                    inside |= 1 << v;
-                    for i in bits(self.on[v] & !self.flat) {
-                        inside_on[i] |= 1 << v;
-                    }
-                }
+                s if s < 0 => inside |= 1 << v,
                 s if s > 0 => {
                     outside[n_out] = v as u8;
                     n_out += 1;
@@ -1291,15 +1276,27 @@ impl CertifiedClipper {
             }
         }
         let mut n_new = old_n;
+        // An outside vertex's inside neighbours: those sharing two of its
+        // planes (one, in a polygon, whose flat planes are left out).
+        // NOTE: tested pair by pair: a body has few vertices, and per-plane
+        // vertex sets cost a loop over every inside vertex's planes.
         for &w in &outside[..n_out] {
-            let (mut once, mut twice): (VertexSet, VertexSet) = (0, 0);
-            for i in bits(self.on[w as usize] & !self.flat) {
-                twice |= once & self.inside_on[i];
-                once |= self.inside_on[i];
-            }
+            let on_w = self.on[w as usize] & !self.flat;
             let mut near = match self.dim {
-                3 => twice,
-                2 => once,
+                3 => {
+                    let mut near = 0;
+                    for u in bits(inside) {
+                        near |= (two_or_more(self.on[u] & on_w) as u64) << u;
+                    }
+                    near
+                }
+                2 => {
+                    let mut near = 0;
+                    for u in bits(inside) {
+                        near |= ((self.on[u] & on_w != 0) as u64) << u;
+                    }
+                    near
+                }
                 // A segment's other end.
                 _ => inside,
             };
