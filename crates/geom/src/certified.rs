@@ -377,6 +377,8 @@ pub(crate) struct CertifiedClipper {
     /// 16 bytes, not eight ~250-byte proxies.
     fold_keys: [(u8, u8); FOLD_CACHE],
     fold_proxies: [Option<Fold>; FOLD_CACHE],
+    /// Planes that are axis planes (faces of S, a closing plane).
+    axis_planes: u64,
     /// Planes that cut.
     pub cuts: u16,
     /// Planes of S and L not clipped: the body's bounding box clears them.
@@ -432,6 +434,7 @@ impl CertifiedClipper {
             neighbours: [0; CAP_V],
             fold_keys: [(NONE, NONE); FOLD_CACHE],
             fold_proxies: [None; FOLD_CACHE],
+            axis_planes: 0,
             cuts: 0,
             cleared: 0,
             closed_by_scene_face: None,
@@ -459,6 +462,7 @@ impl CertifiedClipper {
     ) -> Step {
         self.n_planes = 0;
         self.n_verts = 0;
+        self.axis_planes = 0;
         self.cuts = 0;
         self.cleared = 0;
         self.exact_vertices = 0;
@@ -702,6 +706,7 @@ impl CertifiedClipper {
         // An axis plane gives the shadow vertices an exact coordinate and
         // cheap crossings with the scene's faces.
         self.planes[k] = FloatPlane::axis(axis as u8, upper, value);
+        self.axis_planes |= 1 << k;
         self.partners[k] = 0;
         self.n_planes += 1;
         Some(k)
@@ -850,6 +855,7 @@ impl CertifiedClipper {
         if axis < 3 {
             // An axis plane has no input points and no fold partners: its
             // sign is a comparison, exact where the coordinate is.
+            self.axis_planes |= 1 << k;
             let a = axis as usize;
             let flip = if upper { 1.0 } else { -1.0 };
             for v in 0..self.n_verts {
@@ -1110,12 +1116,10 @@ impl CertifiedClipper {
     /// Stores vertex `out` (on the planes `on`), making the coordinates that
     /// axis planes through it fix exact.
     fn place(&mut self, out: usize, on: u64, mut x: DVec3, mut rad: DVec3) -> bool {
-        for i in bits(on) {
+        for i in bits(on & self.axis_planes) {
             let p = &self.planes[i];
-            if p.axis < 3 {
-                *coord_mut(&mut x, p.axis as usize) = p.value;
-                *coord_mut(&mut rad, p.axis as usize) = 0.0;
-            }
+            *coord_mut(&mut x, p.axis as usize) = p.value;
+            *coord_mut(&mut rad, p.axis as usize) = 0.0;
         }
         self.pos[out] = x;
         self.rad[out] = rad;
