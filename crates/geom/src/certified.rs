@@ -1139,24 +1139,25 @@ impl CertifiedClipper {
     fn structured_crossing(&self, common: u64, k: usize) -> Option<(DVec3, DVec3)> {
         let kp = &self.planes[k];
         let axis = kp.axis as usize;
-        let (mut first_axis, mut general) = (None, None);
-        for i in bits(if kp.axis < 3 { common } else { 0 }) {
-            let p = &self.planes[i];
-            if p.axis < 3 && p.axis as usize != axis {
-                match first_axis {
-                    None => first_axis = Some(i),
-                    Some(f) if self.planes[f].axis != p.axis => {
-                        // Three axis planes: an exact point (coordinates set by `place`).
-                        return Some((DVec3::ZERO, DVec3::ZERO));
+        if kp.axis < 3 {
+            let mut first_axis = None;
+            for i in bits(common & self.axis_planes) {
+                let p = &self.planes[i];
+                if p.axis as usize != axis {
+                    match first_axis {
+                        None => first_axis = Some(i),
+                        Some(f) if self.planes[f].axis != p.axis => {
+                            // Three axis planes: an exact point (coordinates set by `place`).
+                            return Some((DVec3::ZERO, DVec3::ZERO));
+                        }
+                        Some(_) => {}
                     }
-                    Some(_) => {}
                 }
-            } else if p.axis == 3 && general.is_none() {
-                general = Some(i);
             }
-        }
-        if let (Some(f), Some(g)) = (first_axis, general) {
-            return self.crossing_on_plane(g, [k, f]);
+            let general = common & !self.axis_planes;
+            if let (Some(f), true) = (first_axis, general != 0) {
+                return self.crossing_on_plane(general.trailing_zeros() as usize, [k, f]);
+            }
         }
         // An input line: two planes of `common` sharing two input points, or
         // one point and the light's direction.
