@@ -255,10 +255,7 @@ pub(crate) fn crop(m: &DMat4, pts: &[DVec3], origin: DVec3) -> Option<Cropped> {
     let centre = (lo + hi) * 0.5;
     // Degenerate extents (flat or point bodies): at least 2⁻²⁰ of the
     // overall scale, so the matrix stays finite and invertible.
-    let mut scale = 0.0f64;
-    for k in 0..3 {
-        scale = scale.max(lo[k].abs()).max(hi[k].abs()).max(hi[k] - lo[k]);
-    }
+    let mut scale = lo.abs().max(hi.abs()).max(hi - lo).max_element();
     if !(scale > 0.0) {
         scale = 1.0;
     }
@@ -297,10 +294,8 @@ pub(crate) fn crop(m: &DMat4, pts: &[DVec3], origin: DVec3) -> Option<Cropped> {
         // in all, against u₆₄ for a quotient), far inside the 4u₃₂ margin
         // applied below.
         let inv = 1.0 / (wv - ew);
-        for k in 0..3 {
-            let need = (q[k].abs() + e(k, use32)) * inv;
-            half[k] = half[k].max(need);
-        }
+        let err = DVec3::new(e(0, use32), e(1, use32), e(2, use32));
+        half = half.max((q.abs() + err) * inv);
     }
     // A few ulps more: covers the rounding of the quantities just computed.
     half *= 1.0 + 4.0 * U32;
