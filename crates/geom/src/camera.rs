@@ -123,6 +123,16 @@ impl Camera {
 /// Whether `a × b = 0` exactly (each component's sign decided exactly).
 fn exactly_parallel(a: DVec3, b: DVec3) -> bool {
     use crate::number::{cross, lift, Exact, Filtered};
+    // NOTE: a component `a_i b_j − a_j b_i` rounds each product and the
+    // difference once: within 3u of |a_i b_j| + |a_j b_i|, plus at most
+    // 2^-1074 per product where one underflows (covered by the 1e-300).
+    // Beyond that bound the exact component is nonzero; an infinite
+    // bound proves nothing (NaN compares false).
+    let (c, perm) = (a.cross(b), crate::frustum::abs_cross(a, b));
+    let bound = perm * (3.0 * f64::EPSILON) + DVec3::splat(1e-300);
+    if c.abs().cmpgt(bound).any() {
+        return false;
+    }
     let f = cross(&lift::<Filtered>(a), &lift::<Filtered>(b));
     if f.iter().any(|c| matches!(c.sign(), Some(s) if s != 0)) {
         return false;
