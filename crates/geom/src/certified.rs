@@ -1070,11 +1070,13 @@ impl CertifiedClipper {
         // defining points through the planes.
         if self.is_point[u] != 0 && self.is_point[w] != 0 {
             if let Some((x, rad)) = line_crossing(self.pos[u], self.pos[w] - self.pos[u], true, &self.planes[k]) {
-                return self.place(out, on, x, rad);
+                self.store(out, x, rad);
+                return true;
             }
         }
         if let Some((x, rad)) = self.structured_crossing(common, k) {
-            return self.place(out, on, x, rad);
+            self.store(out, x, rad);
+            return true;
         }
         // A first estimate by interpolation along the edge (the side values
         // need not be certified for this).
@@ -1121,10 +1123,21 @@ impl CertifiedClipper {
             *coord_mut(&mut x, p.axis as usize) = p.value;
             *coord_mut(&mut rad, p.axis as usize) = 0.0;
         }
+        self.store(out, x, rad);
+        rad.is_finite() && x.is_finite()
+    }
+
+    /// Stores vertex `out` as found by a structured crossing: finite, and
+    /// exact on the axes of the axis planes through it already.
+    ///
+    /// NOTE: a line crossing sets the cut plane's coordinate, a crossing on
+    /// a plane both axis planes' coordinates, and a line of input points
+    /// lies on an axis plane only where both points have its coordinate (an
+    /// exactly zero step along that axis): no coordinate is left to fix.
+    fn store(&mut self, out: usize, x: DVec3, rad: DVec3) {
         self.pos[out] = x;
         self.rad[out] = rad;
         self.is_point[out] = 0;
-        rad.is_finite() && x.is_finite()
     }
 
     /// Where an edge on the planes `common` crosses plane `k`, with an a
@@ -1147,8 +1160,12 @@ impl CertifiedClipper {
                     match first_axis {
                         None => first_axis = Some(i),
                         Some(f) if self.planes[f].axis != p.axis => {
-                            // Three axis planes: an exact point (coordinates set by `place`).
-                            return Some((DVec3::ZERO, DVec3::ZERO));
+                            // Three axis planes: an exact point.
+                            let mut x = DVec3::ZERO;
+                            for q in [kp, &self.planes[f], p] {
+                                *coord_mut(&mut x, q.axis as usize) = q.value;
+                            }
+                            return Some((x, DVec3::ZERO));
                         }
                         Some(_) => {}
                     }
@@ -1207,7 +1224,7 @@ impl CertifiedClipper {
             return Some((DVec3::from_array(x), DVec3::ZERO));
         }
         rad[j] = ((eq + step.abs() * enj) / (nj - enj) + 2.0 * U * step.abs() + U * x[j].abs()) * SLACK + 1e-300;
-        Some((DVec3::from_array(x), DVec3::from_array(rad)))
+        (x[j].is_finite() && rad[j].is_finite()).then(|| (DVec3::from_array(x), DVec3::from_array(rad)))
     }
 
     /// Improves an estimate of the point where three planes meet and proves
