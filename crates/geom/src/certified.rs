@@ -98,10 +98,6 @@ struct FloatPlane {
     offset: f64,
     /// Input points the plane passes through by definition.
     through: u32,
-    /// Side-bound coefficients: `e = w_coef·|w| + r_coef·r + off_bound`.
-    w_coef: DVec3,
-    r_coef: DVec3,
-    off_bound: f64,
 }
 
 
@@ -158,24 +154,7 @@ impl FloatPlane {
     /// `n · (x − anchor) + offset` with `|ñ − n| ≤ en`.
     #[inline(always)]
     fn general(src: Plane, n: DVec3, en: DVec3, anchor: DVec3, offset: f64, through: u32) -> FloatPlane {
-        // NOTE: |s̃ − s| ≤ 6u(|ñ|·|w̃| + |offset|) (the dot product, the
-        // difference w̃ = x̃ − anchor and the offset's addition) + en·|w̃|
-        // (the normal's error) + (|ñ| + en)·r (the point's error).
-        let na = n.abs();
-        FloatPlane {
-            src,
-            axis: 3,
-            upper: false,
-            value: 0.0,
-            n,
-            en,
-            anchor,
-            offset,
-            through,
-            w_coef: na * (6.0 * U) + en,
-            r_coef: na + en,
-            off_bound: 6.0 * U * offset.abs(),
-        }
+        FloatPlane { src, axis: 3, upper: false, value: 0.0, n, en, anchor, offset, through }
     }
 
     /// Side value at a point known within `r`, and a bound on its error.
@@ -189,9 +168,29 @@ impl FloatPlane {
             // has the exact sign, zero included: the bound is 2u·|s| < |s|.
             return (s, coord(&r, k) * SLACK + 2.0 * U * s.abs());
         }
+        self.general_side(x, r, &self.side_bound())
+    }
+
+    /// The coefficients of a general plane's side bound.
+    ///
+    /// NOTE: |s̃ − s| ≤ 6u(|ñ|·|w̃| + |offset|) (the dot product, the
+    /// difference w̃ = x̃ − anchor and the offset's addition) + en·|w̃|
+    /// (the normal's error) + (|ñ| + en)·r (the point's error). Computed
+    /// where a plane is tested rather than stored with it: most planes
+    /// (the hull's, in a body without a spot light) are never tested.
+    #[inline]
+    fn side_bound(&self) -> SideBound {
+        let na = self.n.abs();
+        SideBound { w: na * (6.0 * U) + self.en, r: na + self.en, offset: 6.0 * U * self.offset.abs() }
+    }
+
+    /// [`FloatPlane::side`] of a general plane, its bound's coefficients
+    /// given (for testing many points against one plane).
+    #[inline]
+    fn general_side(&self, x: DVec3, r: DVec3, b: &SideBound) -> (f64, f64) {
         let w = x - self.anchor;
         let s = self.n.dot(w) + self.offset;
-        let e = (self.w_coef.dot(w.abs()) + self.r_coef.dot(r) + self.off_bound) * SLACK + FLOOR;
+        let e = (b.w.dot(w.abs()) + b.r.dot(r) + b.offset) * SLACK + FLOOR;
         (s, e)
     }
 
@@ -211,6 +210,14 @@ impl FloatPlane {
         }
         self.src.approximate()
     }
+}
+
+/// A general plane's side bound `e = w·|x − anchor| + r·rad + offset`
+/// (see [`FloatPlane::side_bound`]).
+struct SideBound {
+    w: DVec3,
+    r: DVec3,
+    offset: f64,
 }
 
 /// A plane through the line `a`–`c` of plane `p`, perpendicular to `p`:
@@ -411,9 +418,6 @@ const DUMMY_PLANE: FloatPlane = FloatPlane {
     anchor: DVec3::ZERO,
     offset: 0.0,
     through: 0,
-    w_coef: DVec3::ZERO,
-    r_coef: DVec3::ZERO,
-    off_bound: 0.0,
 };
 
 impl CertifiedClipper {
@@ -866,8 +870,9 @@ impl CertifiedClipper {
                 pos += (s > 0) as usize;
             }
         } else {
+            let bound = self.planes[k].side_bound();
             for v in 0..self.n_verts {
-                let Some(s) = self.sign_at(v, k) else { return Step::Uncertain };
+                let Some(s) = self.sign_at(v, k, &bound) else { return Step::Uncertain };
                 self.sign[v] = s;
                 neg += (s < 0) as usize;
                 pos += (s > 0) as usize;
@@ -959,7 +964,7 @@ impl CertifiedClipper {
     }
 
     /// Exact sign of vertex `v` against plane `k`, if provable.
-    fn sign_at(&mut self, v: usize, k: usize) -> Option<i8> {
+    fn sign_at(&mut self, v: usize, k: usize, bound: &SideBound) -> Option<i8> {
         let plane = &self.planes[k];
         if self.is_point[v] & plane.through != 0 {
             return Some(0);
@@ -976,7 +981,7 @@ impl CertifiedClipper {
             }
         }
         let plane = &self.planes[k];
-        let (s, e) = plane.side(x, r);
+        let (s, e) = plane.general_side(x, r, bound);
         if let Some(s) = decide(s, e) {
             return Some(s);
         }
