@@ -377,6 +377,9 @@ pub(crate) struct CertifiedClipper {
     plane_members: [VertexSet; MAX_FAST_PLANES],
     /// `write`'s scratch: per vertex, the vertices it shares an edge with.
     neighbours: [VertexSet; CAP_V],
+    /// `write`'s scratch: per vertex `a`, the vertices `b` such that a face
+    /// written so far runs along the edge from `a` to `b`.
+    directed: [VertexSet; CAP_V],
     /// Plane pairs `(i, k)` whose fold proxy is in `fold_proxies` (same
     /// slot), failures included (`None`).
     ///
@@ -436,6 +439,7 @@ impl CertifiedClipper {
             sign: [0; CAP_V],
             plane_members: [0; MAX_FAST_PLANES],
             neighbours: [0; CAP_V],
+            directed: [0; CAP_V],
             fold_keys: [(NONE, NONE); FOLD_CACHE],
             fold_proxies: [None; FOLD_CACHE],
             axis_planes: 0,
@@ -1427,7 +1431,7 @@ impl CertifiedClipper {
         }
         out.clear();
         let (mut ni, mut nf) = (0, 0);
-        let mut face_of_plane = [NONE; MAX_FAST_PLANES];
+        self.directed[..self.n_verts].fill(0);
         for p in 0..np {
             let m = count[p] as usize;
             if m < 3 {
@@ -1448,7 +1452,7 @@ impl CertifiedClipper {
                 return false;
             }
             let cycle = &out.idx[ni..ni + m];
-            let Ok(neighbour) = self.reversed_by_neighbour(p, cycle, out, &face_of_plane) else { return false };
+            let neighbour = self.reversed_by_neighbour(cycle);
             let Some(reverse) = neighbour.or_else(|| self.reversed_by_geometry(p, !(1 << p), cycle)) else { return false };
             if reverse {
                 out.idx[ni + 1..ni + m].reverse();
@@ -1457,7 +1461,9 @@ impl CertifiedClipper {
             ni += m;
             out.face_start[nf + 1] = ni as u16;
             out.face_planes[nf] = self.planes[p].approximate();
-            face_of_plane[p] = nf as u8;
+            if !self.record_edges(&out.idx[ni - m..ni]) {
+                return false;
+            }
             nf += 1;
         }
         // Euler's formula for a closed convex surface: every edge is in two
@@ -1629,36 +1635,40 @@ impl CertifiedClipper {
         Some(())
     }
 
-    /// Whether the chained cycle of plane `p`'s face must be reversed, read
-    /// off a face already written across one of its edges: consistently
-    /// oriented faces run along a shared edge in opposite directions.
-    /// `Ok(None)` when no written face shares an edge; `Err` when one does
-    /// but does not hold the edge (inconsistent incidences).
-    fn reversed_by_neighbour(&self, p: usize, cycle: &[u16], out: &Body, face_of_plane: &[u8; MAX_FAST_PLANES]) -> Result<Option<bool>, ()> {
-        let m = cycle.len();
-        let others = !(1u64 << p);
-        // NOTE: successors by comparison, not `%`: an integer division per
-        // edge is most of this loop's latency.
-        let after = |s: usize, len: usize| if s + 1 == len { 0 } else { s + 1 };
-        for s in 0..m {
-            let (a, b) = (cycle[s], cycle[after(s, m)]);
-            for q in bits(self.on[a as usize] & self.on[b as usize] & others) {
-                if face_of_plane[q] == NONE {
-                    continue;
-                }
-                let g = out.face(face_of_plane[q] as usize);
-                let n = g.len();
-                let k = g.iter().position(|&v| v == a).ok_or(())?;
-                return if g[after(k, n)] == b {
-                    Ok(Some(true))
-                } else if g[if k == 0 { n - 1 } else { k - 1 }] == b {
-                    Ok(Some(false))
-                } else {
-                    Err(())
-                };
+    /// Whether a face's chained cycle must be reversed, read off a face
+    /// already written across one of its edges: consistently oriented faces
+    /// run along a shared edge in opposite directions. `None` when no
+    /// written face shares an edge.
+    fn reversed_by_neighbour(&self, cycle: &[u16]) -> Option<bool> {
+        let slot = |v: u16| v as usize & (CAP_V - 1);
+        let mut a = slot(cycle[cycle.len() - 1]);
+        for &b in cycle {
+            let b = slot(b);
+            if self.directed[a] & 1 << b != 0 {
+                return Some(true);
             }
+            if self.directed[b] & 1 << a != 0 {
+                return Some(false);
+            }
+            a = b;
         }
-        Ok(None)
+        None
+    }
+
+    /// Records a written face's directed edges; false when a face written
+    /// before runs along one of them the same way (the faces are then not
+    /// consistently oriented: broken incidences).
+    fn record_edges(&mut self, cycle: &[u16]) -> bool {
+        let slot = |v: u16| v as usize & (CAP_V - 1);
+        let mut a = slot(cycle[cycle.len() - 1]);
+        let mut repeated = 0;
+        for &b in cycle {
+            let b = slot(b);
+            repeated |= self.directed[a] & 1 << b;
+            self.directed[a] |= 1 << b;
+            a = b;
+        }
+        repeated == 0
     }
 
     /// Whether the chained cycle of plane `p`'s face must be reversed to run
