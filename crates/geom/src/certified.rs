@@ -1383,23 +1383,11 @@ impl CertifiedClipper {
         decide(det, bound).filter(|&s| s != 0)
     }
 
-    /// Writes the solid into `out`; false (and `out` left empty) when a
-    /// vertex's proven error exceeds the output tolerance, the faces do not
-    /// chain into a closed surface, or a face's orientation is not proven.
+    /// Writes the body into `out`; false (and `out` left empty) when a
+    /// vertex is neither within the output tolerance nor placed exactly, the
+    /// faces do not chain into a closed surface, or a face's orientation is
+    /// not proven.
     pub(crate) fn write(&mut self, out: &mut Body) -> bool {
-        let tol = ROUNDING_ULPS * f64::EPSILON;
-        for v in 0..self.n_verts {
-            let (x, r) = (self.pos[v], self.rad[v]);
-            let allowed = x.abs().max(DVec3::splat(self.magnitude)) * tol;
-            if !(x.is_finite() && r.cmple(allowed).all()) {
-                if !x.is_finite() {
-                    return false;
-                }
-                let Some(exact) = self.exact_vertex(v) else { return false };
-                self.pos[v] = exact;
-                self.exact_vertices += 1;
-            }
-        }
         if self.dim < 3 {
             return self.write_flat(out);
         }
@@ -1472,15 +1460,40 @@ impl CertifiedClipper {
             out.clear();
             return false;
         }
-        out.dim = 3;
         for v in 0..self.n_verts {
-            // Adding +0 turns −0 into +0.
-            out.verts[v] = self.pos[v] + DVec3::ZERO;
+            let Some(x) = self.output_vertex(v) else {
+                out.clear();
+                return false;
+            };
+            out.verts[v] = x;
         }
+        out.dim = 3;
         out.n_verts = self.n_verts;
         out.face_start[nf] = ni as u16;
         out.n_faces = nf;
         true
+    }
+
+    /// Vertex `v` as written: its rounded position when the proven error is
+    /// within the output tolerance, else placed exactly (see
+    /// `exact_vertex`); `None` when it is not finite or cannot be placed.
+    ///
+    /// NOTE: checked as the vertex is written, after the faces: chaining and
+    /// orienting them read positions only through their proven radii.
+    #[inline]
+    fn output_vertex(&mut self, v: usize) -> Option<DVec3> {
+        let (x, r) = (self.pos[v], self.rad[v]);
+        let allowed = x.abs().max(DVec3::splat(self.magnitude)) * (ROUNDING_ULPS * f64::EPSILON);
+        // Adding +0 turns −0 into +0.
+        if x.is_finite() && r.cmple(allowed).all() {
+            return Some(x + DVec3::ZERO);
+        }
+        if !x.is_finite() {
+            return None;
+        }
+        let exact = self.exact_vertex(v)?;
+        self.exact_vertices += 1;
+        Some(exact + DVec3::ZERO)
     }
 
     /// Vertex `v` from the exact intersection of three of its planes,
@@ -1511,7 +1524,7 @@ impl CertifiedClipper {
         None
     }
 
-    /// Writes a flat body (vertices checked by `write`): a point, a segment,
+    /// Writes a flat body (each vertex checked as it is written): a point, a segment,
     /// or a polygon whose cycle runs counter-clockwise seen from the side its
     /// face plane's normal (the outward normal of the plane that left it)
     /// points to. False when the cycle does not close or its orientation is
@@ -1546,7 +1559,11 @@ impl CertifiedClipper {
             }
             // The vertices in cycle order, as the exact engine lists them.
             for i in 0..n {
-                out.verts[i] = self.pos[out.idx[i] as usize] + DVec3::ZERO;
+                let Some(x) = self.output_vertex(out.idx[i] as usize) else {
+                    out.clear();
+                    return false;
+                };
+                out.verts[i] = x;
                 out.idx[i] = i as u16;
             }
             out.face_start[0] = 0;
@@ -1555,7 +1572,11 @@ impl CertifiedClipper {
             out.n_faces = 1;
         } else {
             for v in 0..n {
-                out.verts[v] = self.pos[v] + DVec3::ZERO;
+                let Some(x) = self.output_vertex(v) else {
+                    out.clear();
+                    return false;
+                };
+                out.verts[v] = x;
             }
         }
         out.n_verts = n;
