@@ -1631,9 +1631,21 @@ impl CertifiedClipper {
         if m >= MAX_FAST_PLANES {
             return None;
         }
+        let first = face.trailing_zeros() as usize;
+        if m == 4 {
+            // A quadrilateral: the first vertex's two neighbours, and the
+            // vertex opposite, which must neighbour both.
+            let near = self.neighbours[first] & face;
+            let (a, rest) = (near.trailing_zeros() as usize, near & near.wrapping_sub(1));
+            let opposite = face & !near & !(1 << first);
+            if !two_or_more(near) || two_or_more(rest) || self.neighbours[opposite.trailing_zeros() as usize & (CAP_V - 1)] & face != near {
+                return None;
+            }
+            cycle[..4].copy_from_slice(&[first, a, opposite.trailing_zeros() as usize, rest.trailing_zeros() as usize].map(|v| v as u16));
+            return Some(());
+        }
         // Each step takes the lowest neighbour in the face that is not the
         // vertex it came from.
-        let first = face.trailing_zeros() as usize;
         let (mut prev, mut cur) = (first, first);
         let mut placed: VertexSet = 1 << first;
         cycle[0] = first as u16;
