@@ -504,59 +504,47 @@ impl CertifiedClipper {
         if hull.coplanar != 0 {
             return self.reset_to_merged_hull(view, apex, hull, scene);
         }
-        // Vertex ids of the input points (frustum corners 0–7, light 8) and
-        // of the corners' shadows on the closing plane (directional light).
-        let mut vid = [NONE; 9];
-        let mut shadow = [NONE; 8];
+        // Per input point (frustum corners 0–7, light 8): the planes defined
+        // through it, all exact incidences.
+        let mut planes_of = [0u64; 9];
+        let mut horizon = 0u64;
         for (p, (&through, &origin)) in hull.through().iter().zip(hull.origins()).enumerate() {
             self.planes[p] = match origin {
                 Origin::Face(f) => FloatPlane::of_face(view, f as usize, through),
                 Origin::Horizon(..) => FloatPlane::new(view.hull_plane(apex, origin), through),
             };
             self.partners[p] = 0;
+            horizon |= u64::from(matches!(origin, Origin::Horizon(..))) << p;
+            for c in bits(u64::from(through)) {
+                planes_of[c] |= 1 << p;
+            }
         }
         self.n_planes = hull.len();
-        // The closing plane and the direction toward the light.
-        let closing = match apex {
-            Apex::Finite(_) => None,
-            Apex::Infinite(toward) => match self.closing_plane(toward, scene, corners) {
-                Some(c) => Some((c, toward)),
-                None => return Step::Uncertain,
-            },
-        };
-        // Each plane's vertices: its face's corners, or a horizon edge's
-        // two corners with the light (or their shadows on the closing plane).
-        for (p, origin) in hull.origins().iter().enumerate() {
-            let mut face = [NONE; 4];
-            match *origin {
-                Origin::Face(f) => {
-                    for (slot, &c) in face.iter_mut().zip(view.face(f as usize)) {
-                        *slot = self.input_vertex(&mut vid, c as usize);
-                    }
-                }
-                Origin::Horizon(a, b) => {
-                    face[0] = self.input_vertex(&mut vid, a as usize);
-                    face[1] = self.input_vertex(&mut vid, b as usize);
-                    match closing {
-                        None => face[2] = self.input_vertex(&mut vid, 8),
-                        Some((cap, toward)) => {
-                            for (slot, c) in [(2, b), (3, a)] {
-                                if shadow[c as usize] == NONE {
-                                    let Some(v) = self.shadow_vertex(hull, c, cap, toward) else { return Step::Uncertain };
-                                    shadow[c as usize] = v;
-                                }
-                                face[slot] = shadow[c as usize];
-                            }
-                        }
-                    }
-                }
-            }
-            for &v in face.iter().filter(|&&v| v != NONE) {
-                self.on[v as usize] |= 1 << p;
+        // The vertices: the input points on some plane (a corner whose faces
+        // all see the light is inside the hull), exact.
+        for (c, &on) in planes_of.iter().enumerate() {
+            if on != 0 {
+                self.push_input_vertex(c, on);
             }
         }
+        let Apex::Infinite(toward) = apex else { return Step::Nonempty };
+        // A light at infinity: the hull is closed by a plane, whose face is
+        // the horizon's shadow; each corner on the horizon lies on two
+        // horizon planes, which its ray toward the light follows.
+        let Some(cap) = self.closing_plane(toward, scene, corners) else { return Step::Uncertain };
+        let mut shadows = 0;
+        for (c, &on) in planes_of[..8].iter().enumerate() {
+            let rays = on & horizon;
+            if rays == 0 {
+                continue;
+            }
+            if !two_or_more(rays) || two_or_more(rays & (rays - 1)) || self.push_shadow(c, rays | 1 << cap, cap, toward).is_none() {
+                return Step::Uncertain;
+            }
+            shadows += 1;
+        }
         // The closing plane's face is the horizon's shadow: at least a triangle.
-        if closing.is_some() && shadow.iter().filter(|&&v| v != NONE).count() < 3 {
+        if shadows < 3 {
             return Step::Uncertain;
         }
         Step::Nonempty
@@ -616,30 +604,24 @@ impl CertifiedClipper {
             np += 1;
         }
         self.n_planes = np;
-        // Vertices: the kept corners, then the light (or the shadows).
-        let mut vid = [NONE; 9];
-        for c in bits(kept as u64) {
-            self.input_vertex(&mut vid, c);
-        }
-        if let (Apex::Finite(_), false) = (apex, light_in_view) {
-            self.input_vertex(&mut vid, 8);
-        }
         // Incidences from the planes' defining points; per kept corner, its
         // planes that contain the light's direction.
-        let mut along = [0u64; 8];
+        let (mut planes_of, mut along) = ([0u64; 8], [0u64; 8]);
         for p in 0..np {
             let bit = 1u64 << p;
             for c in bits(u64::from(self.planes[p].through) & u64::from(kept)) {
-                self.on[vid[c] as usize] |= bit;
+                planes_of[c] |= bit;
                 along[c] |= bit & with_light;
             }
+        }
+        // Vertices: the kept corners, then the light (or the shadows).
+        for c in bits(kept as u64) {
+            self.push_input_vertex(c, planes_of[c]);
         }
         let toward = match apex {
             Apex::Finite(_) => {
                 if !light_in_view {
-                    for p in bits(with_light) {
-                        self.on[vid[8] as usize] |= 1 << p;
-                    }
+                    self.push_input_vertex(8, with_light);
                 }
                 return Step::Nonempty;
             }
@@ -662,18 +644,15 @@ impl CertifiedClipper {
         Step::Nonempty
     }
 
-    /// The vertex for input point `i` (made on first use, exact).
-    fn input_vertex(&mut self, vid: &mut [u8; 9], i: usize) -> u8 {
-        if vid[i] == NONE {
-            let v = self.n_verts;
-            self.pos[v] = self.points[i];
-            self.rad[v] = DVec3::ZERO;
-            self.on[v] = 0;
-            self.is_point[v] = 1 << i;
-            self.n_verts += 1;
-            vid[i] = v as u8;
-        }
-        vid[i]
+    /// Appends input point `i` as an exact vertex on the planes `on` (the
+    /// hull's first vertices: at most nine, so always room).
+    fn push_input_vertex(&mut self, i: usize, on: u64) {
+        let v = self.n_verts;
+        self.pos[v] = self.points[i];
+        self.rad[v] = DVec3::ZERO;
+        self.on[v] = on;
+        self.is_point[v] = 1 << i;
+        self.n_verts += 1;
     }
 
     /// An axis plane that holds S and every frustum corner strictly inside,
@@ -718,24 +697,6 @@ impl CertifiedClipper {
         self.partners[k] = 0;
         self.n_planes += 1;
         Some(k)
-    }
-
-    /// Where the light's ray through frustum corner `c` meets the closing
-    /// plane: on the two horizon planes through `c` and the closing plane.
-    fn shadow_vertex(&mut self, hull: &HullOutline, c: u8, cap: usize, toward: DVec3) -> Option<u8> {
-        let mut through_c = 0;
-        for origin in hull.origins() {
-            if matches!(*origin, Origin::Horizon(a, b) if a == c || b == c) {
-                if through_c == 2 {
-                    return None;
-                }
-                through_c += 1;
-            }
-        }
-        if through_c != 2 {
-            return None;
-        }
-        self.push_shadow(c as usize, 1 << cap, cap, toward)
     }
 
     /// Appends the vertex where the ray from corner `c` toward the light
