@@ -487,20 +487,24 @@ impl CertifiedClipper {
         }
         let corners = view.corners();
         self.points[..8].copy_from_slice(corners);
+        // The largest input magnitude, per axis first: over S, the corners
+        // and the light (and its frustum), the input points that exist.
+        let mut magnitude = corners.iter().fold(scene.min.abs().max(scene.max.abs()), |m, c| m.max(c.abs()));
         self.points[8] = match apex {
-            Apex::Finite(l) => l,
+            Apex::Finite(l) => {
+                magnitude = magnitude.max(l.abs());
+                l
+            }
             Apex::Infinite(_) => DVec3::NAN,
         };
         match light_frustum {
-            Some(c) => self.points[9..].copy_from_slice(c),
+            Some(c) => {
+                self.points[9..].copy_from_slice(c);
+                magnitude = c.iter().fold(magnitude, |m, c| m.max(c.abs()));
+            }
             None => self.points[9..].fill(DVec3::NAN),
         }
-        self.magnitude = scene.min.abs().max(scene.max.abs()).max_element();
-        for p in &self.points {
-            if p.is_finite() {
-                self.magnitude = self.magnitude.max(p.abs().max_element());
-            }
-        }
+        self.magnitude = magnitude.max_element();
         if hull.coplanar != 0 {
             return self.reset_to_merged_hull(view, apex, hull, scene);
         }
