@@ -814,7 +814,9 @@ impl CertifiedClipper {
         let k = self.n_planes;
         let plane = &self.planes[k];
         let (through, axis, upper, value) = (plane.through, plane.axis, plane.upper, plane.value);
-        self.magnitude = self.magnitude.max(plane.src.magnitude());
+        // NOTE: the planes clipped by are faces of S and of L, whose values
+        // and defining points are in `magnitude` already (`reset_to_hull`).
+        debug_assert!(plane.src.magnitude() <= self.magnitude);
         let mut partners = 0;
         if two_or_more(through as u64) {
             for (i, p) in self.planes[..k].iter().enumerate() {
