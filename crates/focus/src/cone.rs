@@ -15,6 +15,26 @@
 
 use glam::DVec3;
 
+/// Per subset of the four simplex vertices (bit `i`: vertex `i`), its
+/// vertices in increasing order and how many there are.
+const SUBSETS: [([usize; 4], usize); 16] = {
+    let mut table = [([0; 4], 0); 16];
+    let mut mask = 0;
+    while mask < 16 {
+        let (mut i, mut k) = (0, 0);
+        while i < 4 {
+            if mask & (1 << i) != 0 {
+                table[mask].0[k] = i;
+                k += 1;
+            }
+            i += 1;
+        }
+        table[mask].1 = k;
+        mask += 1;
+    }
+    table
+};
+
 /// Nearest point to the origin of the simplex `w[..n]` (n ≤ 4) among its
 /// faces through the newest vertex `w[n − 1]`; keeps in `w` only the
 /// vertices of the smallest face containing it.
@@ -31,11 +51,7 @@ fn nearest_on_simplex(w: &mut [DVec3; 4], n: &mut usize) -> DVec3 {
     // Every subset holding the newest vertex (≤ 8): its affine hull's
     // nearest point, kept if its barycentric coordinates are all positive.
     for mask in (1u8 << (count - 1))..(1 << count) {
-        let mut idx = [0usize; 4];
-        for (slot, i) in idx.iter_mut().zip((0..count).filter(|i| mask & (1 << i) != 0)) {
-            *slot = i;
-        }
-        let k = mask.count_ones() as usize;
+        let (idx, k) = SUBSETS[mask as usize];
         let p0 = pts[idx[0]];
         let cand = match k {
             1 => Some(p0),
@@ -79,11 +95,9 @@ fn nearest_on_simplex(w: &mut [DVec3; 4], n: &mut usize) -> DVec3 {
             }
         }
     }
-    let kept = pts[..count].iter().enumerate().filter(|(i, _)| best.2 & (1 << i) != 0);
-    let mut k = 0;
-    for (slot, (_, p)) in w.iter_mut().zip(kept) {
-        *slot = *p;
-        k += 1;
+    let (kept, k) = SUBSETS[best.2 as usize];
+    for (slot, &i) in w.iter_mut().zip(&kept[..k]) {
+        *slot = pts[i];
     }
     *n = k;
     best.1
