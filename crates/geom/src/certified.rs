@@ -1491,11 +1491,11 @@ impl CertifiedClipper {
         None
     }
 
-    /// Writes a flat body (each vertex checked as it is written): a point, a segment,
-    /// or a polygon whose cycle runs counter-clockwise seen from the side its
-    /// face plane's normal (the outward normal of the plane that left it)
-    /// points to. False when the cycle does not close or its orientation is
-    /// not proven.
+    /// Writes a flat body: a point, a segment, or a polygon whose cycle runs
+    /// counter-clockwise seen from the side its face plane's normal (the
+    /// outward normal of the plane that left it) points to. False when a
+    /// vertex cannot be written (see `output_vertex`), the cycle does not
+    /// close or its orientation is not proven.
     fn write_flat(&mut self, out: &mut Body) -> bool {
         out.clear();
         let n = self.n_verts;
