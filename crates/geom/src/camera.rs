@@ -124,10 +124,11 @@ impl Camera {
 fn exactly_parallel(a: DVec3, b: DVec3) -> bool {
     use crate::number::{cross, lift, Exact, Filtered};
     // NOTE: a component `a_i b_j − a_j b_i` rounds each product and the
-    // difference once: within 3u of |a_i b_j| + |a_j b_i|, plus at most
-    // 2^-1074 per product where one underflows (covered by the 1e-300).
-    // Beyond that bound the exact component is nonzero; an infinite
-    // bound proves nothing (NaN compares false).
+    // difference once: within 2u(1 + u) of |a_i b_j| + |a_j b_i|, plus at
+    // most 2^-1074 per product where one underflows. The bound takes 6u of
+    // the rounded sum (which covers that sum's own rounding) and 1e-300;
+    // beyond it the exact component is nonzero. An infinite bound proves
+    // nothing (NaN compares false).
     let (c, perm) = (a.cross(b), crate::frustum::abs_cross(a, b));
     let bound = perm * (3.0 * f64::EPSILON) + DVec3::splat(1e-300);
     if c.abs().cmpgt(bound).any() {
