@@ -753,18 +753,21 @@ impl CertifiedClipper {
     /// Per-axis bounds on the vertices' exact positions (`lo ≤ x ≤ hi`), so
     /// that a plane strictly beyond them has every vertex strictly inside.
     fn bounds(&self) -> (DVec3, DVec3) {
-        // NOTE: the exact coordinate lies within `rad` of `pos`; the pad
-        // 4·rad + 4u·|pos| leaves 3·rad + 4u·|pos| beyond that, more than the
-        // roundings of the pad and of the sum (each under u of its
-        // magnitude).
+        // NOTE: each exact coordinate lies within its `rad` of `pos`; one pad
+        // for all, 4·max rad + 4u·max |pos|, leaves at least 3·max rad +
+        // 4u·max |pos| beyond that, more than the roundings of the pad and of
+        // the sums (each under u of its magnitude).
         let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        let (mut r_max, mut x_max) = (DVec3::ZERO, DVec3::ZERO);
         for v in 0..self.n_verts {
             let (x, r) = (self.pos[v], self.rad[v]);
-            let pad = r * 4.0 + x.abs() * (4.0 * U);
-            lo = lo.min(x - pad);
-            hi = hi.max(x + pad);
+            lo = lo.min(x);
+            hi = hi.max(x);
+            r_max = r_max.max(r);
+            x_max = x_max.max(x.abs());
         }
-        (lo, hi)
+        let pad = r_max * 4.0 + x_max * (4.0 * U);
+        (lo - pad, hi + pad)
     }
 
     /// Clips by the faces of a spot light's frustum (its corners are input
