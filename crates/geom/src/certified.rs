@@ -263,7 +263,9 @@ fn line_crossing(a: DVec3, d: DVec3, d_rounded: bool, p: &FloatPlane) -> Option<
         *coord_mut(&mut x, axis) = p.value;
         let mut rad = exact_where_still((td.abs() * (6.0 * U) + x.abs() * (2.0 * U)) * SLACK + DVec3::splat(1e-300), d);
         *coord_mut(&mut rad, axis) = 0.0;
-        return (x.is_finite() && rad.is_finite()).then_some((x, rad));
+        // NOTE: `a` is finite, so a finite `x` has a finite `td`, and then
+        // `rad` is finite too.
+        return x.is_finite().then_some((x, rad));
     }
     // NOTE: t = −P(a)/(n·d). P(a) is known within e_q (the side bound at an
     // exact point); n·d within e_δ = en·|d| + 4u·|n|·|d| (+2u|n|·|d| when d
