@@ -831,7 +831,8 @@ impl CertifiedClipper {
             }
         }
         self.partners[k] = partners;
-        let (mut neg, mut pos) = (0, 0);
+        // The vertices strictly inside and strictly outside, as vertex sets.
+        let (mut inside, mut outside): (VertexSet, VertexSet) = (0, 0);
         if axis < 3 {
             // An axis plane has no input points and no fold partners: its
             // sign is a comparison, exact where the coordinate is.
@@ -842,20 +843,20 @@ impl CertifiedClipper {
                 let s = (coord(&self.pos[v], a) - value) * flip;
                 let Some(s) = decide(s, coord(&self.rad[v], a) * SLACK + 2.0 * U * s.abs()) else { return Step::Uncertain };
                 self.sign[v] = s;
-                neg += (s < 0) as usize;
-                pos += (s > 0) as usize;
+                inside |= u64::from(s < 0) << v;
+                outside |= u64::from(s > 0) << v;
             }
         } else {
             let bound = self.planes[k].side_bound();
             for v in 0..self.n_verts {
                 let Some(s) = self.sign_at(v, k, &bound) else { return Step::Uncertain };
                 self.sign[v] = s;
-                neg += (s < 0) as usize;
-                pos += (s > 0) as usize;
+                inside |= u64::from(s < 0) << v;
+                outside |= u64::from(s > 0) << v;
             }
         }
         let bit = 1u64 << k;
-        if pos == 0 {
+        if outside == 0 {
             // Not cut; remember which vertices the plane touches.
             // NOTE: a supporting plane through three vertices of a solid
             // (never collinear: all are extreme points) is the plane of a face
@@ -882,14 +883,14 @@ impl CertifiedClipper {
             self.n_planes += 1;
             return Step::Nonempty;
         }
-        if neg == 0 {
+        if inside == 0 {
             // Entirely outside (empty), or touching from outside: what is
             // left is the body's face on the plane (flat).
             return if self.sign[..self.n_verts].contains(&0) { self.flatten(k) } else { Step::Empty };
         }
         self.n_planes += 1;
         self.cuts += 1;
-        if self.cut(k) {
+        if self.cut(k, inside, outside) {
             Step::Nonempty
         } else {
             Step::Uncertain
@@ -1250,7 +1251,8 @@ impl CertifiedClipper {
         (x.is_finite() && rad.is_finite()).then_some((x, rad))
     }
 
-    /// Cuts by plane `k` (vertices on both sides, signs in `self.sign`).
+    /// Cuts by plane `k`: `inside` and `outside` are the vertices strictly
+    /// on either side (both nonempty), the others lie on `k`.
     ///
     /// NOTE: the body keeps no face cycles while clipping. Two vertices span
     /// an edge exactly when they lie on two common planes: two distinct
@@ -1259,32 +1261,22 @@ impl CertifiedClipper {
     /// are not recorded, see `clip`). So the cut edges are the pairs of an
     /// inside and an outside vertex sharing two planes, and faces are
     /// assembled once, in `write`.
-    fn cut(&mut self, k: usize) -> bool {
+    fn cut(&mut self, k: usize, inside: VertexSet, outside: VertexSet) -> bool {
         let old_n = self.n_verts;
-        let (mut outside, mut n_out) = ([0u8; CAP_V], 0);
         let bit = 1u64 << k;
         let mut on_k = 0;
-        let mut inside: VertexSet = 0;
-        for v in 0..old_n {
-            match self.sign[v] {
-                s if s < 0 => inside |= 1 << v,
-                s if s > 0 => {
-                    outside[n_out] = v as u8;
-                    n_out += 1;
-                }
-                _ => {
-                    self.on[v] |= bit;
-                    on_k += 1;
-                }
-            }
+        // NOTE: 2 ≤ old_n ≤ 64 (a vertex on each side), so the shift is in range.
+        for v in bits(u64::MAX >> (64 - old_n) & !(inside | outside)) {
+            self.on[v] |= bit;
+            on_k += 1;
         }
         let mut n_new = old_n;
         // An outside vertex's inside neighbours: those sharing two of its
         // planes (one, in a polygon, whose flat planes are left out).
         // NOTE: tested pair by pair: a body has few vertices, and per-plane
         // vertex sets cost a loop over every inside vertex's planes.
-        for &w in &outside[..n_out] {
-            let on_w = self.on[w as usize] & !self.flat;
+        for w in bits(outside) {
+            let on_w = self.on[w] & !self.flat;
             let mut near = match self.dim {
                 3 => {
                     let mut near = 0;
@@ -1306,7 +1298,7 @@ impl CertifiedClipper {
             while near != 0 {
                 let u = near.trailing_zeros() as usize;
                 near &= near - 1;
-                if n_new >= CAP_V || !self.crossing(u, w as usize, k, n_new) {
+                if n_new >= CAP_V || !self.crossing(u, w, k, n_new) {
                     return false;
                 }
                 n_new += 1;
@@ -1323,11 +1315,10 @@ impl CertifiedClipper {
         // the last vertex kept.
         // NOTE: filling holes from the end moves one vertex per hole, where
         // shifting everything down moved every vertex after the first hole.
-        let kept = |v: usize, sign: &[i8]| v >= old_n || sign[v] <= 0;
+        let kept = |v: usize| v >= old_n || outside & 1 << v == 0;
         let mut n = n_new;
-        for &w in &outside[..n_out] {
-            let w = w as usize;
-            while n > w && !kept(n - 1, &self.sign) {
+        for w in bits(outside) {
+            while n > w && !kept(n - 1) {
                 n -= 1;
             }
             if n <= w {
