@@ -277,8 +277,10 @@ pub(crate) fn crop(m: &DMat4, pts: &[DVec3], origin: DVec3) -> Option<Cropped> {
     let abs_both: [DVec4; 4] = std::array::from_fn(|r| abs64[r] + abs32[r]);
     let mut f32_exact = true;
     for p in pts {
-        let (pw, pr) = (h(*p), h(*p - origin));
-        let (pwa, pra) = (pw.abs(), pr.abs());
+        let pw = h(*p);
+        let pwa = pw.abs();
+        // The position relative to the f32 origin, only where it is not zero.
+        let pra = if at_origin { pwa } else { h(*p - origin).abs() };
         let e = |r: usize, with_f32: bool| match (with_f32, at_origin) {
             (false, _) => abs64[r].dot(pwa),
             (true, true) => abs_both[r].dot(pwa),
