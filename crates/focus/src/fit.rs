@@ -138,7 +138,7 @@ fn map_fit(sv: &SplitView, light: &Light, f: &Fitted) -> MapFit {
     MapFit {
         state: MapState::Active,
         matrix: f.m,
-        matrix_f32: (f.m * DMat4::from_translation(sv.settings.f32_origin)).as_mat4(),
+        matrix_f32: f32_matrix(&f.m, sv.settings.f32_origin),
         f32_exact: f.f32_exact,
         // The depth row's side of the light decides the test (see `project`).
         depth_test: if f.m.row(2).dot(lp) < 0.0 { DepthTest::Less } else { DepthTest::Greater },
@@ -149,6 +149,18 @@ fn map_fit(sv: &SplitView, light: &Light, f: &Fitted) -> MapFit {
         method: f.method,
         warp_near: f.warp_near,
         psm_shift: f.psm_shift,
+    }
+}
+
+/// `m` relative to the f32 origin, rounded to f32.
+///
+/// NOTE: with the origin at zero the product with the identity is skipped:
+/// it is exact, up to the sign of zero entries.
+fn f32_matrix(m: &DMat4, origin: DVec3) -> Mat4 {
+    if origin == DVec3::ZERO {
+        m.as_mat4()
+    } else {
+        (*m * DMat4::from_translation(origin)).as_mat4()
     }
 }
 
