@@ -534,26 +534,16 @@ impl CertifiedClipper {
             }
         }
         let Apex::Infinite(toward) = apex else { return Step::Nonempty };
-        // A light at infinity: the hull is closed by a plane, whose face is
-        // the horizon's shadow; each corner on the horizon lies on two
-        // horizon planes, which its ray toward the light follows.
-        let Some(cap) = self.closing_plane(toward, scene, corners) else { return Step::Uncertain };
-        let mut shadows = 0;
-        for (c, &on) in planes_of[..8].iter().enumerate() {
-            let rays = on & horizon;
-            if rays == 0 {
-                continue;
-            }
-            if !two_or_more(rays) || two_or_more(rays & (rays - 1)) || self.push_shadow(c, rays | 1 << cap, cap, toward).is_none() {
+        // A light at infinity: each corner on the horizon lies on two horizon
+        // planes, which its ray toward the light follows.
+        let mut rays = [0u64; 8];
+        for (ray, &on) in rays.iter_mut().zip(&planes_of[..8]) {
+            *ray = on & horizon;
+            if *ray != 0 && (!two_or_more(*ray) || two_or_more(*ray & (*ray - 1))) {
                 return Step::Uncertain;
             }
-            shadows += 1;
         }
-        // The closing plane's face is the horizon's shadow: at least a triangle.
-        if shadows < 3 {
-            return Step::Uncertain;
-        }
-        Step::Nonempty
+        self.cast_shadows(toward, scene, corners, &rays)
     }
 
     /// `hull(V ∪ {l})` when the light lies in the plane of some frustum
@@ -633,17 +623,26 @@ impl CertifiedClipper {
             }
             Apex::Infinite(toward) => toward,
         };
-        let Some(cap) = self.closing_plane(toward, scene, view.corners()) else { return Step::Uncertain };
+        let rays = along.map(|planes| if two_or_more(planes) { planes } else { 0 });
+        self.cast_shadows(toward, scene, view.corners(), &rays)
+    }
+
+    /// Closes the hull of a light at infinity: appends the closing plane,
+    /// and for each corner whose ray toward the light is an edge (`rays[c]`:
+    /// the hull's planes along it, or none) the ray's shadow on that plane.
+    fn cast_shadows(&mut self, toward: DVec3, scene: &Aabb, corners: &[DVec3; 8], rays: &[u64; 8]) -> Step {
+        let Some(cap) = self.closing_plane(toward, scene, corners) else { return Step::Uncertain };
         let mut shadows = 0;
-        for c in bits(kept as u64) {
-            if !two_or_more(along[c]) {
+        for (c, &planes) in rays.iter().enumerate() {
+            if planes == 0 {
                 continue;
             }
-            if self.push_shadow(c, along[c] | 1 << cap, cap, toward).is_none() {
+            if self.push_shadow(c, planes | 1 << cap, cap, toward).is_none() {
                 return Step::Uncertain;
             }
             shadows += 1;
         }
+        // The closing plane's face is the horizon's shadow: at least a triangle.
         if shadows < 3 {
             return Step::Uncertain;
         }
