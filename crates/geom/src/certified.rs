@@ -48,7 +48,7 @@
 //! clip like a solid with one dimension fewer.
 
 use crate::body::{Aabb, Body};
-use crate::frustum::{abs_cross, corner_bits, creased_pair, Apex, Frustum, HullOutline, Origin, APEX_BIT};
+use crate::frustum::{abs_cross, corner_bits, creased_pair, Apex, Frustum, HullOutline, Origin};
 use crate::number::Exact;
 use crate::plane::{intersect3, Plane};
 use crate::polytope::{point_side, ROUNDING_ULPS};
@@ -568,10 +568,7 @@ impl CertifiedClipper {
         let light_in_view = sees == 0;
         let n_faces = view.face_count();
         let beneath = !(sees | coplanar) & ((1u16 << n_faces) - 1);
-        let apex_bit = match apex {
-            Apex::Finite(_) => APEX_BIT,
-            Apex::Infinite(_) => 0,
-        };
+        let apex_bit = apex.through_bit();
         let mut kept = if light_in_view { 0xff } else { 0u32 };
         for i in bits(beneath as u64) {
             kept |= corner_bits(view.face(i));

@@ -65,6 +65,15 @@ impl Apex {
             Apex::Finite(v) | Apex::Infinite(v) => v,
         }
     }
+
+    /// The apex's bit in [`HullOutline::through`]: a point at infinity is
+    /// no input point, so planes through it record none.
+    pub(crate) fn through_bit(self) -> u32 {
+        match self {
+            Apex::Finite(_) => APEX_BIT,
+            Apex::Infinite(_) => 0,
+        }
+    }
 }
 
 /// Bit of the hull apex in [`HullOutline::through`] (bits 0–7 are corners).
@@ -579,10 +588,7 @@ impl Frustum {
             coplanar |= u16::from(side == 0) << i;
         }
         (out.sees, out.coplanar) = (sees, coplanar);
-        let apex_bit = match apex {
-            Apex::Finite(_) => APEX_BIT,
-            Apex::Infinite(_) => 0,
-        };
+        let apex_bit = apex.through_bit();
         for i in 0..n {
             if sees & 1 << i == 0 {
                 out.push(corner_bits(self.face(i)), Origin::Face(i as u8));
