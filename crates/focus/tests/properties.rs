@@ -127,8 +127,15 @@ fn check_frame(cam: &Camera, light: &Light, scene: &Aabb, s: &FocusSettings, out
     Ok(())
 }
 
+/// 128 cases per property in the test suite; `PROPTEST_CASES` overrides it
+/// for longer runs.
+fn config() -> ProptestConfig {
+    let cases = std::env::var("PROPTEST_CASES").ok().and_then(|s| s.parse().ok()).unwrap_or(128);
+    ProptestConfig { cases, max_shrink_iters: 200, ..ProptestConfig::default() }
+}
+
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 128, max_shrink_iters: 200, ..ProptestConfig::default() })]
+    #![proptest_config(config())]
 
     #[test]
     fn conservative_and_covering(cam in camera_strategy(), scene in scene_strategy(), light in light_strategy(), s in settings_strategy()) {
