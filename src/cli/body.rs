@@ -2,7 +2,8 @@
 
 use super::case::{case_lines, parse_case, Case};
 use serde_json::{json, Value};
-use shadowfocus_geom::{focus_body_exact_into, focus_body_into, Body, Frustum};
+use parry3d_f64::transformation::try_convex_hull;
+use shadowfocus_geom::{focus_body_exact_into, focus_body_into, Body, Frustum, Light};
 use std::io::{BufRead, Write};
 use std::time::Instant;
 
@@ -104,6 +105,9 @@ pub fn bench(input: impl BufRead) -> std::io::Result<Value> {
     let mut with_frustum_ns = Vec::with_capacity(cases.len());
     let mut exact_cases = 0;
     let (mut float_ns, mut engine_ns, mut exact_only_ns) = (Vec::new(), Vec::new(), Vec::new());
+    // Point and spot lights: the body against parry's hull of the nine points
+    // (what engines typically compute, without any clipping), case by case.
+    let (mut finite_light_body_ns, mut parry_ns) = (Vec::new(), Vec::new());
     for case in &cases {
         let _ = focus_body_into(&mut body, &case.view, &case.light, &case.scene);
         exact_cases += (body.stats().exact_evaluations > 0) as usize;
@@ -113,6 +117,22 @@ pub fn bench(input: impl BufRead) -> std::io::Result<Value> {
         });
         body_ns.push(ns);
         if on_float_path { &mut float_ns } else { &mut engine_ns }.push(ns);
+        if let Light::Point { position } | Light::Spot { position, .. } = case.light {
+            let c = case.view.corners();
+            let nine = [c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], position];
+            // NOTE: parry's hull may panic on hostile input; such a case is
+            // left out of the comparison (silently: the hook is swapped).
+            let hook = std::panic::take_hook();
+            std::panic::set_hook(Box::new(|_| {}));
+            let sound = std::panic::catch_unwind(|| try_convex_hull(&nine).is_ok()).unwrap_or(false);
+            std::panic::set_hook(hook);
+            if sound {
+                finite_light_body_ns.push(ns);
+                parry_ns.push(case_median_ns(|| {
+                    let _ = std::hint::black_box(try_convex_hull(std::hint::black_box(&nine)));
+                }));
+            }
+        }
         exact_only_ns.push(case_median_ns(|| {
             let _ = focus_body_exact_into(&mut body, &case.view, &case.light, &case.scene);
         }));
@@ -140,6 +160,9 @@ pub fn bench(input: impl BufRead) -> std::io::Result<Value> {
         "float_path_median_ns": if float_ns.is_empty() { 0.0 } else { median(&mut float_ns) },
         "exact_engine_median_ns": if engine_ns.is_empty() { 0.0 } else { median(&mut engine_ns) },
         "cases_using_big_integers": exact_cases,
+        "finite_light_cases": parry_ns.len(),
+        "finite_light_median_ns": if parry_ns.is_empty() { 0.0 } else { median(&mut finite_light_body_ns) },
+        "parry_hull_of_9_points_median_ns": if parry_ns.is_empty() { 0.0 } else { median(&mut parry_ns) },
         "invalid_lines_skipped": skipped,
     }))
 }
@@ -147,6 +170,26 @@ pub fn bench(input: impl BufRead) -> std::io::Result<Value> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The bench times every valid case, and compares against parry's hull
+    /// exactly the point and spot cases.
+    #[test]
+    fn bench_counts_cases_and_compares_finite_lights_with_parry() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/cases/smoke.jsonl");
+        let text = std::fs::read_to_string(path).unwrap();
+        let lines: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).take(12).collect();
+        let finite = lines.iter().filter(|l| !l.contains("\"directional\"")).count();
+        assert!(finite > 0 && finite < lines.len(), "{finite} of {}", lines.len());
+        let input = format!("{}\nnot json\n", lines.join("\n"));
+        let r = bench(input.as_bytes()).unwrap();
+        assert_eq!(r["cases"], lines.len());
+        assert_eq!(r["invalid_lines_skipped"], 1);
+        assert_eq!(r["finite_light_cases"], finite);
+        for key in ["median_ns", "finite_light_median_ns", "parry_hull_of_9_points_median_ns", "with_frustum_validation_median_ns"] {
+            let t = r[key].as_f64().unwrap();
+            assert!(t > 0.0 && t.is_finite(), "{key}: {t}");
+        }
+    }
 
     /// The scene fixtures mix both kinds: a few coincidences go to the exact
     /// engine, the rest (flat bodies included) are answered by the float path.
