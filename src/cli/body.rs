@@ -60,10 +60,20 @@ pub fn float_path_cases(input: impl BufRead, mut out: impl Write) -> std::io::Re
     Ok(failed)
 }
 
-/// Median of a sample (sorted in place).
+/// Median of a sample (sorted in place); 0 for an empty one.
 pub fn median(xs: &mut [f64]) -> f64 {
+    quantile(xs, 0.5)
+}
+
+/// 99th percentile of a sample (sorted in place); 0 for an empty one.
+pub fn p99(xs: &mut [f64]) -> f64 {
+    quantile(xs, 0.99)
+}
+
+/// The sample value at rank `⌊q·n⌋` (sorted in place); 0 for an empty sample.
+fn quantile(xs: &mut [f64], q: f64) -> f64 {
     xs.sort_by(f64::total_cmp);
-    xs[xs.len() / 2]
+    xs.get(((xs.len() as f64 * q) as usize).min(xs.len().saturating_sub(1))).copied().unwrap_or(0.0)
 }
 
 /// Per-case median time of `f` in nanoseconds: the median of at least 15
@@ -139,26 +149,20 @@ pub fn bench(input: impl BufRead) -> std::io::Result<Value> {
             }
         }));
     }
-    let p99 = |xs: &mut Vec<f64>| {
-        xs.sort_by(f64::total_cmp);
-        xs.get(((xs.len() as f64 * 0.99) as usize).min(xs.len().saturating_sub(1))).copied().unwrap_or(0.0)
-    };
-    let n = cases.len();
-    let (med, med_f) = if n > 0 { (median(&mut body_ns), median(&mut with_frustum_ns)) } else { (0.0, 0.0) };
     Ok(json!({
-        "cases": n,
-        "median_ns": med,
+        "cases": cases.len(),
+        "median_ns": median(&mut body_ns),
         "p99_ns": p99(&mut body_ns),
-        "with_frustum_validation_median_ns": med_f,
+        "with_frustum_validation_median_ns": median(&mut with_frustum_ns),
         "with_frustum_validation_p99_ns": p99(&mut with_frustum_ns),
-        "exact_engine_only_median_ns": if n > 0 { median(&mut exact_only_ns) } else { 0.0 },
+        "exact_engine_only_median_ns": median(&mut exact_only_ns),
         "cases_on_float_path": float_ns.len(),
-        "float_path_median_ns": if float_ns.is_empty() { 0.0 } else { median(&mut float_ns) },
-        "exact_engine_median_ns": if engine_ns.is_empty() { 0.0 } else { median(&mut engine_ns) },
+        "float_path_median_ns": median(&mut float_ns),
+        "exact_engine_median_ns": median(&mut engine_ns),
         "cases_using_big_integers": exact_cases,
         "finite_light_cases": parry_ns.len(),
-        "finite_light_median_ns": if parry_ns.is_empty() { 0.0 } else { median(&mut finite_light_body_ns) },
-        "parry_hull_of_9_points_median_ns": if parry_ns.is_empty() { 0.0 } else { median(&mut parry_ns) },
+        "finite_light_median_ns": median(&mut finite_light_body_ns),
+        "parry_hull_of_9_points_median_ns": median(&mut parry_ns),
         "invalid_lines_skipped": skipped,
     }))
 }

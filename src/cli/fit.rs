@@ -1,6 +1,6 @@
 //! `shadowfocus fit`: shadow-map matrices for JSON-lines cases.
 
-use super::body::{case_median_ns, median};
+use super::body::{case_median_ns, median, p99};
 use super::case::{case_lines, parse_case, Case};
 use serde_json::{json, Value};
 use shadowfocus_focus::{camera_from_corners, fit, FocusResult, FocusSettings, Method, SplitScheme, SplitSettings};
@@ -140,8 +140,5 @@ pub fn bench(input: impl BufRead, settings: &FocusSettings) -> std::io::Result<V
             let _ = fit(cam, &c.light, &c.scene, settings, &mut result);
         }))
         .collect();
-    let n = ns.len();
-    let med = if n > 0 { median(&mut ns) } else { 0.0 };
-    let p99 = if n > 0 { ns[((n as f64 * 0.99) as usize).min(n - 1)] } else { 0.0 };
-    Ok(json!({"cases": n, "method": settings.method.name(), "splits": settings.splits.count, "median_ns": med, "p99_ns": p99}))
+    Ok(json!({"cases": ns.len(), "method": settings.method.name(), "splits": settings.splits.count, "median_ns": median(&mut ns), "p99_ns": p99(&mut ns)}))
 }
