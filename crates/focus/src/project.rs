@@ -314,23 +314,23 @@ pub(crate) fn crop(m: &DMat4, pts: &[DVec3], origin: DVec3) -> Option<Cropped> {
 /// for a `res × res` map. `f64::INFINITY` where the map does not see `p`.
 pub(crate) fn texel_size(m: &DMat4, light: DVec4, p: DVec3, res: u32) -> f64 {
     let q = *m * h(p);
-    if !(q.w > 0.0) {
-        return f64::INFINITY;
-    }
     let t = p * light.w - light.truncate();
-    let t = t.normalize_or_zero();
-    if t == DVec3::ZERO {
+    let len = t.length();
+    if !(q.w > 0.0 && len > 0.0 && len.is_finite()) {
         return f64::INFINITY;
     }
-    let (b1, b2) = (t.any_orthonormal_vector(), t.cross(t.any_orthonormal_vector()));
-    // d(x/w) = (x_row·w − x·w_row)/w²
-    let grad = |r: usize| -> DVec3 {
-        let row = m.row(r).truncate();
-        let wr = m.row(3).truncate();
-        (row * q.w - wr * m.row(r).dot(h(p))) / (q.w * q.w)
-    };
-    let (gx, gy) = (grad(0), grad(1));
-    let det = gx.dot(b1) * gy.dot(b2) - gx.dot(b2) * gy.dot(b1);
+    // The image gradients: d(x/w) = (x_row·w − x·w_row)/w², likewise for y.
+    // The area scale on the plane ⊥ t̂, in any orthonormal basis b₁, b₂ of
+    // it, is (g_x·b₁)(g_y·b₂) − (g_x·b₂)(g_y·b₁) = (g_x × g_y)·(b₁ × b₂),
+    // and b₁ × b₂ = t̂: no basis is needed.
+    // NOTE: the gradients are scaled by 1/w² before the cross product, as
+    // they are, so that a large w cannot overflow what the quotient keeps
+    // finite.
+    let inv_w2 = 1.0 / (q.w * q.w);
+    let w_row = m.row(3).truncate();
+    let gx = (m.row(0).truncate() * q.w - w_row * q.x) * inv_w2;
+    let gy = (m.row(1).truncate() * q.w - w_row * q.y) * inv_w2;
+    let det = gx.cross(gy).dot(t) / len;
     let s = (2.0 / res as f64) / det.abs().sqrt();
     if s.is_finite() {
         s
@@ -377,6 +377,35 @@ mod tests {
             assert!((a.x / a.w - b.x / b.w).abs() < 1e-12);
             assert!(b.z / b.w < a.z / a.w, "nearer the light, smaller depth");
         }
+    }
+
+    /// Against finite differences: one texel's area on the plane across
+    /// the light ray, measured with an explicit basis of that plane.
+    #[test]
+    fn texel_size_of_perspective_map_matches_finite_differences() {
+        let l = DVec3::new(2.0, 10.0, -1.0);
+        let pts = [DVec3::new(-3.0, 0.0, -3.0), DVec3::new(3.0, 0.5, -3.0), DVec3::new(0.0, 1.0, 4.0), DVec3::new(1.0, -2.0, 0.0)];
+        let c = central_projection(l.extend(1.0), &pts, DepthKind::Perspective, DVec3::NEG_Z, DVec3::X, None).unwrap();
+        let m = crop(&c.m, &pts, DVec3::ZERO).unwrap().m;
+        let image = |p: DVec3| {
+            let q = m * h(p);
+            (q.x / q.w, q.y / q.w)
+        };
+        for p in pts {
+            let t = (p - l).normalize();
+            let b1 = t.any_orthonormal_vector();
+            let b2 = t.cross(b1);
+            let step = 1e-5;
+            let (x0, y0) = image(p);
+            let (x1, y1) = image(p + b1 * step);
+            let (x2, y2) = image(p + b2 * step);
+            let area = ((x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0)).abs() / (step * step);
+            let want = (2.0 / 512.0) / area.sqrt();
+            let got = texel_size(&m, l.extend(1.0), p, 512);
+            assert!((got - want).abs() < 1e-4 * want, "{got} vs {want}");
+        }
+        // Behind the light (w ≤ 0) no texel sees the point.
+        assert_eq!(texel_size(&m, l.extend(1.0), l * 2.0 - pts[0], 512), f64::INFINITY);
     }
 
     #[test]
