@@ -9,7 +9,7 @@ use crate::settings::{FocusSettings, Method, PointMode};
 use crate::splits::split_depths;
 use crate::MAX_SPLITS;
 use glam::{DMat4, DVec3, Mat4};
-use shadowfocus_geom::{focus_body_into, Aabb, Body, Camera, Frustum, Light};
+use shadowfocus_geom::{focus_body_into, Aabb, Body, Camera, Frustum, Light, MAX_VERTICES};
 
 /// Half-angle margin of cube faces and truncation frusta: the field of view
 /// is widened by 2⁻²⁰ (relative) so that the rounded frusta still overlap;
@@ -262,28 +262,31 @@ enum Truncation {
 /// point of `body` at depth ≥ near along its axis.
 fn truncation_frustum(sv: &SplitView, body: &Body, l: DVec3) -> Result<Truncation, FocusError> {
     let verts = body.vertices();
-    // Directions to the vertices other than the light itself.
-    let mut lo = DVec3::splat(f64::INFINITY);
-    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    // Unit directions to the vertices other than the light itself.
+    // NOTE: normalised once here rather than in every pass of the search
+    // below (three passes when the first guess holds, a sqrt and three
+    // divisions per vertex each).
+    let mut units = [DVec3::ZERO; MAX_VERTICES];
+    let mut n = 0;
     for p in verts.iter().filter(|p| **p != l) {
-        let u = (*p - l).normalize();
-        lo = lo.min(u);
-        hi = hi.max(u);
+        units[n] = (*p - l).normalize();
+        n += 1;
+    }
+    let units = &units[..n];
+    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    for u in units {
+        lo = lo.min(*u);
+        hi = hi.max(*u);
     }
     let mut a = ((lo + hi) * 0.5).normalize_or_zero();
-    let min_dot = |a: DVec3| verts.iter().filter(|p| **p != l).map(|p| a.dot((*p - l).normalize())).fold(f64::INFINITY, f64::min);
+    // The direction least aligned with `a`, and its dot product.
+    let worst = |a: DVec3| units.iter().map(|u| (a.dot(*u), *u)).fold((f64::INFINITY, DVec3::ZERO), |w, x| if x.0 < w.0 { x } else { w });
     let mut k = 0;
-    while a != DVec3::ZERO && !(min_dot(a) > 0.0) && k < 64 {
-        let worst = verts
-            .iter()
-            .filter(|p| **p != l)
-            .map(|p| (*p - l).normalize())
-            .min_by(|x, y| a.dot(*x).total_cmp(&a.dot(*y)))
-            .unwrap_or(DVec3::ZERO);
-        a = (a + worst).normalize_or_zero();
+    while a != DVec3::ZERO && !(worst(a).0 > 0.0) && k < 64 {
+        a = (a + worst(a).1).normalize_or_zero();
         k += 1;
     }
-    if a == DVec3::ZERO || !(min_dot(a) > 0.0) {
+    if a == DVec3::ZERO || !(worst(a).0 > 0.0) {
         return Ok(Truncation::NoCone);
     }
     let hint = perpendicular_hint(sv.basis.forward, sv.basis.right + sv.basis.up);

@@ -137,7 +137,9 @@ fn travel_axis<const N: usize>(pts: &[DVec3], travel: impl Fn(DVec3) -> DVec3, t
         if !(len > 0.0) {
             return None; // the light is a vertex of the body
         }
-        *u = t / len;
+        // NOTE: one reciprocal for three divisions: the axis only has to
+        // see every point with w > 0, which the crop checks again.
+        *u = t * (1.0 / len);
     }
     let min_dot = |a: DVec3| -> (f64, DVec3) {
         let mut worst = (f64::INFINITY, DVec3::ZERO);
