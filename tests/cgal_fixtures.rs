@@ -49,7 +49,9 @@ fn canonical(cycle: &[usize]) -> Vec<usize> {
     cycle[k..].iter().chain(&cycle[..k]).copied().collect()
 }
 
-fn check_case(case_line: &str, exp_line: &str) -> Result<bool, String> {
+/// `Ok((ambiguous, light_first))`: whether vertices were rounding-ambiguous,
+/// and whether the float path answered with `L` clipped first.
+fn check_case(case_line: &str, exp_line: &str) -> Result<(bool, bool), String> {
     let case_json: Value = serde_json::from_str(case_line).unwrap();
     let exp_json: Value = serde_json::from_str(exp_line).unwrap();
     let id = case_json["id"].as_str().unwrap_or("?").to_string();
@@ -123,7 +125,7 @@ fn check_case(case_line: &str, exp_line: &str) -> Result<bool, String> {
     if (body.volume() - exp.volume).abs() > vol_tol {
         return Err(format!("{id}: volume {} vs CGAL {} (tolerance {vol_tol:e})", body.volume(), exp.volume));
     }
-    Ok(ambiguous)
+    Ok((ambiguous, body.stats().light_clipped_first))
 }
 
 #[test]
@@ -132,6 +134,7 @@ fn every_cgal_fixture_agrees() {
     let mut failures = Vec::new();
     let mut total = 0;
     let mut ambiguous_total = 0;
+    let mut light_first_total = 0;
     for name in FILES {
         let cases = std::fs::read_to_string(root.join("cases").join(format!("{name}.jsonl"))).unwrap();
         let exp = std::fs::read_to_string(root.join("expected").join(format!("{name}.jsonl"))).unwrap();
@@ -140,12 +143,17 @@ fn every_cgal_fixture_agrees() {
         for (c, e) in cases.iter().zip(&exp) {
             total += 1;
             match check_case(c, e) {
-                Ok(ambiguous) => ambiguous_total += ambiguous as usize,
+                Ok((ambiguous, light_first)) => {
+                    ambiguous_total += ambiguous as usize;
+                    light_first_total += light_first as usize;
+                }
                 Err(msg) => failures.push(msg),
             }
         }
     }
     assert!(total >= 3800, "expected the full fixture set, found {total} cases");
-    eprintln!("{total} fixtures checked, {ambiguous_total} with rounding-ambiguous vertices");
+    eprintln!("{total} fixtures checked, {ambiguous_total} with rounding-ambiguous vertices, {light_first_total} answered with L clipped first");
+    // The second clipping order of spot lights is checked here too.
+    assert!(light_first_total > 0, "no fixture takes the float path's L-first order");
     assert!(failures.is_empty(), "{} of {total} fixtures disagree:\n{}", failures.len(), failures.iter().take(25).cloned().collect::<Vec<_>>().join("\n"));
 }

@@ -191,11 +191,11 @@ mod tests {
         }
     }
 
-    /// The scene fixtures mix both kinds: a few coincidences go to the exact
-    /// engine, the rest (flat bodies included) are answered by the float path.
+    /// The spot fixtures mix both kinds: a few coincidences go to the exact
+    /// engine, the rest are answered by the float path.
     #[test]
     fn float_path_cases_keeps_exactly_the_cases_the_float_path_answers() {
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/cases/scene.jsonl");
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/cases/spot.jsonl");
         let text = std::fs::read_to_string(path).unwrap();
         let mut out = Vec::new();
         assert_eq!(float_path_cases(text.as_bytes(), &mut out).unwrap(), 0);
