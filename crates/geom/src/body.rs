@@ -487,8 +487,10 @@ fn answer_certified(fast: &mut CertifiedClipper, out: &mut Body, plan: &Plan, vi
 /// looser is placed from its planes' exact intersection); when a bound
 /// cannot prove a decision (coincidences the construction does not explain,
 /// such as a frustum corner in another face's plane, or near-degenerate
-/// input) the case is computed again by the exact engine. Both give the same
-/// exact body; [`FocusStats::float_path`] says which one answered.
+/// input) the case is computed again by the exact engine (a spot light is
+/// first tried once more on the float path, with `L` clipped before `S`).
+/// Both give the same exact body; [`FocusStats::float_path`] says which one
+/// answered.
 ///
 /// Work skipped when a case does not need it:
 /// - `L` is clipped only for spot lights;

@@ -49,6 +49,7 @@
 
 use crate::body::{Aabb, Body};
 use crate::frustum::{abs_cross, corner_bits, creased_pair, Apex, Frustum, HullOutline, Origin};
+use crate::meet::{meet, Meeting};
 use crate::number::Exact;
 use crate::plane::{intersect3, Plane};
 use crate::polytope::{point_side, ROUNDING_ULPS};
@@ -1455,19 +1456,44 @@ impl CertifiedClipper {
         Some(exact + DVec3::ZERO)
     }
 
-    /// Vertex `v` from the exact intersection of three of its planes,
-    /// each coordinate correctly rounded; `None` when no three of them meet
-    /// in a point.
+    /// Vertex `v` from the exact intersection of three of its planes, each
+    /// coordinate within 3u relative (correctly rounded where big integers
+    /// answer); `None` when no three of them meet in a point.
     ///
     /// NOTE: for a vertex whose proven error exceeds the output tolerance
     /// (planes meeting at small angles make the float estimate's bound
     /// loose, typically by a factor of 1.1–3). Every plane recorded on a
     /// vertex passes through it exactly, so any three independent ones give
     /// it; the signs that placed it were proven already, so only its
-    /// coordinates need the big integers (and their allocation), not the
-    /// whole body.
+    /// coordinates need exact arithmetic, not the whole body. That is done
+    /// in fixed-width integers on the stack ([`crate::meet`]) when the
+    /// planes' values fit, else with big integers (which allocate).
     #[cold]
     fn exact_vertex(&self, v: usize) -> Option<DVec3> {
+        let mut on = [0usize; MAX_FAST_PLANES];
+        let mut n = 0;
+        for p in bits(self.on[v]) {
+            on[n] = p;
+            n += 1;
+        }
+        let src = |i: usize| &self.planes[on[i]].src;
+        for i in 0..n {
+            for j in i + 1..n {
+                for k in j + 1..n {
+                    match meet([src(i), src(j), src(k)]) {
+                        Meeting::Point(x) => return x.is_finite().then_some(x),
+                        Meeting::Dependent => {}
+                        Meeting::Unfit => return self.exact_vertex_big(v),
+                    }
+                }
+            }
+        }
+        None
+    }
+
+    /// [`CertifiedClipper::exact_vertex`] with big integers: any input.
+    #[cold]
+    fn exact_vertex_big(&self, v: usize) -> Option<DVec3> {
         let planes: Vec<[Exact; 4]> = bits(self.on[v]).map(|p| self.planes[p].src.coefficients::<Exact>()).collect();
         for i in 0..planes.len() {
             for j in i + 1..planes.len() {

@@ -39,6 +39,7 @@ mod camera;
 mod certified;
 mod error;
 mod frustum;
+mod meet;
 mod number;
 mod plane;
 mod polytope;

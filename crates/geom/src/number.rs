@@ -167,7 +167,7 @@ impl Exact {
 }
 
 /// `x · 2^k` without intermediate overflow or premature underflow.
-fn scale_pow2(mut x: f64, mut k: i64) -> f64 {
+pub(crate) fn scale_pow2(mut x: f64, mut k: i64) -> f64 {
     while k > 1000 {
         x *= 2f64.powi(1000);
         k -= 1000;

@@ -1,0 +1,418 @@
+//! Where three exactly defined planes meet, in fixed-width integers.
+//!
+//! The float path places a vertex from its planes' exact intersection when
+//! the proven bound of its float estimate is too loose for output (planes
+//! meeting at small angles). Big integers can do that for any input, but
+//! they allocate and cost tens of thousands of instructions a vertex. The
+//! values defining a vertex's planes almost always span few binades on each
+//! axis, and then the whole computation fits a fixed number of 64-bit limbs
+//! on the stack.
+//!
+//! Scaling: the diagonal map `x ↦ (2^-e₀ x₀, 2^-e₁ x₁, 2^-e₂ x₂)` takes the
+//! plane through given points (and points at infinity) to the plane through
+//! their images, and the planes' meeting point to its image. With `e_a` the
+//! exponent of the last mantissa bit of axis `a`'s smallest nonzero value,
+//! every image coordinate is an integer, and the scaling is exact in `f64`.
+//!
+//! Bit budget: with every axis's values spanning at most [`MAX_SPREAD`]
+//! binades, scaled values are integers below 2^85, differences below 2^86,
+//! normals (two products of differences) below 2^173, offsets (three
+//! products of a normal and a value) below 2^260; Cramer's rule then gives
+//! `W = n₁·(n₂ × n₃)` below 2^522 and `X, Y, Z` (three products of an
+//! offset and a cross product of normals) below 2^609, inside [`LIMBS`]
+//! limbs. An overflow is still detected, and declines.
+
+use crate::number::{scale_pow2, Ring};
+use crate::plane::{intersect3, Plane};
+use glam::DVec3;
+
+/// Largest exponent spread between one axis's values (see the bit budget).
+const MAX_SPREAD: i32 = 32;
+
+/// 640 bits: room for the 609-bit numerators.
+const LIMBS: usize = 10;
+
+/// The meeting point of three planes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Meeting {
+    /// The exact point, each coordinate within 3u relative (u = 2^-53).
+    Point(DVec3),
+    /// The normals are linearly dependent: no single point.
+    Dependent,
+    /// The inputs do not fit the fixed width (a wide spread of exponents,
+    /// a subnormal value, a plane given by coefficients): use big integers.
+    Unfit,
+}
+
+/// Where the three planes meet (see [`Meeting`]).
+pub(crate) fn meet(planes: [&Plane; 3]) -> Meeting {
+    let Some(scale) = axis_exponents(planes) else { return Meeting::Unfit };
+    let scaled = planes.map(|p| scaled_plane(p, scale));
+    let [a, b, c] = scaled.map(|p| p.coefficients::<Fixed>());
+    let h = intersect3(&a, &b, &c);
+    if h.iter().any(|v| v.overflow) {
+        return Meeting::Unfit;
+    }
+    if h[3].len == 0 {
+        return Meeting::Dependent;
+    }
+    let (w, w_exp) = h[3].approximate();
+    // NOTE: X and W are each rounded once (u), their quotient once more;
+    // the power-of-two scalings are exact while the result is normal.
+    let coord = |k: usize| {
+        let (x, x_exp) = h[k].approximate();
+        scale_pow2(x / w, x_exp as i64 - w_exp as i64 + scale[k] as i64) + 0.0
+    };
+    Meeting::Point(DVec3::new(coord(0), coord(1), coord(2)))
+}
+
+/// Per axis, the exponent `e` of the last mantissa bit of the smallest
+/// nonzero value; `None` when the values do not fit (see the module notes).
+fn axis_exponents(planes: [&Plane; 3]) -> Option<[i32; 3]> {
+    // Magnitudes as bit patterns (ordered like the values for non-negative
+    // floats); zero is left out of the smallest.
+    let mut largest = [0u64; 3];
+    let mut smallest = [u64::MAX; 3];
+    let mut values = [(0usize, 0.0f64); 27];
+    let mut n = 0;
+    for plane in planes {
+        let points: &[DVec3] = match plane {
+            Plane::Points(ps) => ps,
+            Plane::PointsDirection { p, q, direction } => &[*p, *q, *direction],
+            Plane::Axis { axis, value, .. } => {
+                values[n] = (*axis as usize, *value);
+                n += 1;
+                &[]
+            }
+            Plane::Coefficients { .. } => return None,
+        };
+        for p in points {
+            for axis in 0..3 {
+                values[n] = (axis, p[axis]);
+                n += 1;
+            }
+        }
+    }
+    for &(axis, v) in &values[..n] {
+        let bits = v.to_bits() & !(1 << 63);
+        largest[axis] = largest[axis].max(bits);
+        if bits != 0 {
+            smallest[axis] = smallest[axis].min(bits);
+        }
+    }
+    let unit_exponent = |bits: u64| (bits >> 52) as i32 - 1075;
+    let mut out = [0; 3];
+    for axis in 0..3 {
+        if largest[axis] == 0 {
+            continue; // all zero: any scale
+        }
+        // A subnormal has no implicit bit; a scale of 2^-e must be normal.
+        if smallest[axis] < f64::MIN_POSITIVE.to_bits() || unit_exponent(smallest[axis]) < -1022 {
+            return None;
+        }
+        let e = unit_exponent(smallest[axis]);
+        if unit_exponent(largest[axis]) - e > MAX_SPREAD {
+            return None;
+        }
+        out[axis] = e;
+    }
+    Some(out)
+}
+
+/// The plane's image under the scaling by `2^-e` per axis (exact: every
+/// image value is an integer below 2^85).
+fn scaled_plane(plane: &Plane, e: [i32; 3]) -> Plane {
+    let factor = e.map(|e| f64::from_bits(((1023 - e) as u64) << 52));
+    let s = |p: DVec3| DVec3::new(p.x * factor[0], p.y * factor[1], p.z * factor[2]);
+    match *plane {
+        Plane::Points([p, q, r]) => Plane::Points([s(p), s(q), s(r)]),
+        Plane::PointsDirection { p, q, direction } => Plane::PointsDirection { p: s(p), q: s(q), direction: s(direction) },
+        Plane::Axis { axis, upper, value } => Plane::Axis { axis, upper, value: value * factor[axis as usize] },
+        Plane::Coefficients { .. } => *plane,
+    }
+}
+
+/// A signed integer of up to `64 · LIMBS` bits, with an overflow flag that
+/// every result inherits.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Fixed {
+    /// Magnitude, least significant limb first; limbs from `len` on are 0.
+    mag: [u64; LIMBS],
+    len: u8,
+    /// Never set for zero.
+    negative: bool,
+    overflow: bool,
+}
+
+impl Fixed {
+    const ZERO: Fixed = Fixed { mag: [0; LIMBS], len: 0, negative: false, overflow: false };
+
+    fn poisoned() -> Fixed {
+        Fixed { overflow: true, ..Fixed::ZERO }
+    }
+
+    /// Sets `len` for a magnitude with no nonzero limb from `bound` on.
+    fn with_len(mut self, bound: usize) -> Fixed {
+        let mut len = bound;
+        while len > 0 && self.mag[len - 1] == 0 {
+            len -= 1;
+        }
+        self.len = len as u8;
+        self.negative &= len > 0;
+        self
+    }
+
+    /// `(m, k)` with the value ≈ `m · 2^k`, `m` correctly rounded from the
+    /// exact value (0 for zero).
+    ///
+    /// NOTE: the top two limbs as one `u128`, with any lower bit folded into
+    /// its last bit (sticky): 64 or more bits lie below the rounding
+    /// position of the conversion, so it rounds as the full value would.
+    fn approximate(&self) -> (f64, i32) {
+        let n = self.len as usize;
+        let m = match n {
+            0 => return (0.0, 0),
+            1 => (self.mag[0] as u128 as f64, 0),
+            _ => {
+                let top = (self.mag[n - 1] as u128) << 64 | self.mag[n - 2] as u128;
+                let sticky = self.mag[..n - 2].iter().any(|&l| l != 0);
+                ((top | sticky as u128) as f64, 64 * (n as i32 - 2))
+            }
+        };
+        (if self.negative { -m.0 } else { m.0 }, m.1)
+    }
+
+    fn magnitude_cmp(&self, o: &Fixed) -> std::cmp::Ordering {
+        self.len.cmp(&o.len).then_with(|| self.mag[..self.len as usize].iter().rev().cmp(o.mag[..o.len as usize].iter().rev()))
+    }
+
+    /// `|self| + |o|` with `negative` as given.
+    fn add_magnitudes(&self, o: &Fixed, negative: bool) -> Fixed {
+        let mut out = Fixed { negative, overflow: self.overflow || o.overflow, ..Fixed::ZERO };
+        let mut carry = 0u64;
+        for i in 0..(self.len.max(o.len) as usize) {
+            let (s, c1) = self.mag[i].overflowing_add(o.mag[i]);
+            let (s, c2) = s.overflowing_add(carry);
+            out.mag[i] = s;
+            carry = (c1 || c2) as u64;
+        }
+        let n = self.len.max(o.len) as usize;
+        if carry != 0 {
+            if n == LIMBS {
+                return Fixed::poisoned();
+            }
+            out.mag[n] = carry;
+        }
+        out.with_len((n + 1).min(LIMBS))
+    }
+
+    /// `|self| − |o|` for `|self| ≥ |o|`, with `negative` as given.
+    fn sub_magnitudes(&self, o: &Fixed, negative: bool) -> Fixed {
+        let mut out = Fixed { negative, overflow: self.overflow || o.overflow, ..Fixed::ZERO };
+        let mut borrow = 0u64;
+        for i in 0..self.len as usize {
+            let (s, b1) = self.mag[i].overflowing_sub(o.mag[i]);
+            let (s, b2) = s.overflowing_sub(borrow);
+            out.mag[i] = s;
+            borrow = (b1 || b2) as u64;
+        }
+        out.with_len(self.len as usize)
+    }
+
+    /// `self + (−1)^flip · o`.
+    fn add_signed(&self, o: &Fixed, flip: bool) -> Fixed {
+        let o_negative = o.negative != (flip && o.len > 0);
+        if self.negative == o_negative {
+            return self.add_magnitudes(o, self.negative);
+        }
+        match self.magnitude_cmp(o) {
+            std::cmp::Ordering::Less => o.sub_magnitudes(self, o_negative),
+            _ => self.sub_magnitudes(o, self.negative),
+        }
+    }
+}
+
+impl Ring for Fixed {
+    /// An integer-valued `f64` below 2^127 (other values poison the result).
+    ///
+    /// NOTE: read from the bits, not with `fract` and a cast to `u128`:
+    /// without SSE4.1 both are library calls.
+    fn lit(x: f64) -> Fixed {
+        let bits = x.to_bits();
+        let biased = ((bits >> 52) & 0x7ff) as i32;
+        let frac = bits & ((1 << 52) - 1);
+        if biased == 0 {
+            // Zero, or a subnormal: no integer.
+            return if frac == 0 { Fixed::ZERO } else { Fixed::poisoned() };
+        }
+        let (mant, e) = (frac | 1 << 52, biased - 1075);
+        let m: u128 = if e >= 0 {
+            if e > 74 {
+                return Fixed::poisoned(); // 2^127 or more, or not finite
+            }
+            (mant as u128) << e
+        } else {
+            if e < -52 || mant & ((1 << -e) - 1) != 0 {
+                return Fixed::poisoned(); // a fraction
+            }
+            (mant >> -e) as u128
+        };
+        let mut out = Fixed { negative: bits >> 63 == 1, ..Fixed::ZERO };
+        out.mag[0] = m as u64;
+        out.mag[1] = (m >> 64) as u64;
+        out.len = if out.mag[1] != 0 { 2 } else { 1 };
+        out
+    }
+
+    fn add(&self, o: &Fixed) -> Fixed {
+        self.add_signed(o, false)
+    }
+
+    fn sub(&self, o: &Fixed) -> Fixed {
+        self.add_signed(o, true)
+    }
+
+    fn mul(&self, o: &Fixed) -> Fixed {
+        let (n, m) = (self.len as usize, o.len as usize);
+        let overflow = self.overflow || o.overflow;
+        if n == 0 || m == 0 {
+            return Fixed { overflow, ..Fixed::ZERO };
+        }
+        if n + m > LIMBS + 1 {
+            return Fixed::poisoned();
+        }
+        let mut wide = [0u64; LIMBS + 1];
+        for i in 0..n {
+            let mut carry = 0u128;
+            for j in 0..m {
+                let t = self.mag[i] as u128 * o.mag[j] as u128 + wide[i + j] as u128 + carry;
+                wide[i + j] = t as u64;
+                carry = t >> 64;
+            }
+            wide[i + m] = carry as u64;
+        }
+        if wide[LIMBS] != 0 {
+            return Fixed::poisoned();
+        }
+        let mut out = Fixed { negative: self.negative != o.negative, overflow, ..Fixed::ZERO };
+        out.mag.copy_from_slice(&wide[..LIMBS]);
+        out.with_len((n + m).min(LIMBS))
+    }
+
+    fn neg(&self) -> Fixed {
+        Fixed { negative: !self.negative && self.len > 0, ..*self }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::number::Exact;
+    use proptest::prelude::Rng;
+    use proptest::test_runner::{RngAlgorithm, TestRng};
+
+    /// The big-integer intersection, correctly rounded.
+    fn reference(planes: [&Plane; 3]) -> Option<DVec3> {
+        let [a, b, c] = planes.map(|p| p.coefficients::<Exact>());
+        let h = intersect3(&a, &b, &c);
+        (h[3].sign() != 0).then(|| DVec3::from_array(std::array::from_fn(|k| Exact::ratio_to_f64(&h[k], &h[3]))))
+    }
+
+    fn unit(rng: &mut TestRng) -> f64 {
+        (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    }
+
+    /// Fixed-width integers against `i128` where both apply.
+    #[test]
+    fn ring_operations_agree_with_i128() {
+        let mut rng = TestRng::deterministic_rng(RngAlgorithm::ChaCha);
+        for _ in 0..20000 {
+            let a = (rng.next_u64() >> (rng.next_u64() % 64)) as i64 as i128 * if rng.next_u64() % 2 == 0 { 1 } else { -1 };
+            let b = (rng.next_u64() >> (rng.next_u64() % 64)) as i64 as i128 * if rng.next_u64() % 3 == 0 { 1 } else { -1 };
+            // Exactly representable operands: below 2^53.
+            let (a, b) = (a >> 11, b >> 11);
+            let (fa, fb) = (Fixed::lit(a as f64), Fixed::lit(b as f64));
+            let value = |f: Fixed| {
+                let m = f.mag[0] as i128 | (f.mag[1] as i128) << 64;
+                assert!(f.mag[2..].iter().all(|&l| l == 0) && !f.overflow);
+                if f.negative { -m } else { m }
+            };
+            assert_eq!(value(fa.add(&fb)), a + b);
+            assert_eq!(value(fa.sub(&fb)), a - b);
+            assert_eq!(value(fa.mul(&fb)), a * b);
+            assert_eq!(value(fa.neg()), -a);
+            // Zero is never negative.
+            assert!(!fa.sub(&fa).negative && fa.sub(&fa).len == 0);
+        }
+    }
+
+    /// Products past the width poison, and the poison spreads.
+    #[test]
+    fn overflow_is_detected_and_inherited() {
+        let big = Fixed::lit(2f64.powi(100));
+        let mut x = big;
+        for _ in 0..5 {
+            x = x.mul(&big);
+        }
+        assert!(!x.overflow); // 2^600 fits 640 bits
+        let y = x.mul(&big);
+        assert!(y.overflow);
+        assert!(y.add(&Fixed::lit(1.0)).overflow && Fixed::lit(1.0).sub(&y).overflow);
+        assert!(Fixed::lit(0.5).overflow && Fixed::lit(2f64.powi(130)).overflow);
+    }
+
+    /// Random planes through rounded points (and axis planes), at scales
+    /// 2^-30..2^30: each coordinate within 3u of the correctly rounded one.
+    #[test]
+    fn meeting_points_agree_with_big_integers() {
+        let mut rng = TestRng::deterministic_rng(RngAlgorithm::ChaCha);
+        let (mut points, mut dependent, mut unfit) = (0, 0, 0);
+        for k in 0..4000 {
+            let s = 2f64.powi((rng.next_u64() % 61) as i32 - 30);
+            let o = DVec3::new(unit(&mut rng), unit(&mut rng), unit(&mut rng)) * s * 4.0;
+            let mut pt = || o + DVec3::new(unit(&mut rng), unit(&mut rng), unit(&mut rng)) * s;
+            let mut plane = |i: u64| match (k + i) % 4 {
+                0 | 1 => Plane::Points([pt(), pt(), pt()]),
+                2 => Plane::PointsDirection { p: pt(), q: pt(), direction: pt() - o },
+                _ => Plane::Axis { axis: (i % 3) as u8, upper: i % 2 == 0, value: pt().x },
+            };
+            let mut planes = [plane(0), plane(1), plane(2)];
+            if k % 4 == 3 {
+                // The first plane again, oriented the other way: dependent
+                // normals, W = 0.
+                planes[2] = planes[0].flipped();
+            }
+            let refs = [&planes[0], &planes[1], &planes[2]];
+            match (meet(refs), reference(refs)) {
+                (Meeting::Point(got), Some(want)) => {
+                    for a in 0..3 {
+                        assert!((got[a] - want[a]).abs() <= 3.0 * f64::EPSILON * want[a].abs(), "case {k}: {got:?} vs {want:?}");
+                    }
+                    points += 1;
+                }
+                (Meeting::Dependent, None) => dependent += 1,
+                (Meeting::Unfit, _) => unfit += 1,
+                (got, want) => panic!("case {k}: {got:?} vs {want:?}"),
+            }
+        }
+        eprintln!("{points} points, {dependent} dependent, {unfit} unfit");
+        assert!(points > 2500 && dependent > 900 && unfit < 200, "{points} points, {dependent} dependent, {unfit} unfit");
+    }
+
+    /// Exponents too far apart on one axis, subnormals and coefficient
+    /// planes are declined rather than answered wrongly.
+    #[test]
+    fn unfit_inputs_are_declined() {
+        let p = Plane::Points([DVec3::new(1.0, 0.0, 0.0), DVec3::new(0.0, 1.0, 0.0), DVec3::new(0.0, 0.0, 1.0)]);
+        let far = Plane::Points([DVec3::new(1e30, 0.0, 0.0), DVec3::new(0.0, 1.0, 0.0), DVec3::new(0.0, 0.0, 1.0)]);
+        let tiny = Plane::Axis { axis: 0, upper: true, value: 1e-310 };
+        let coefficients = Plane::Coefficients { normal: DVec3::X, offset: 1.0 };
+        let x = Plane::Axis { axis: 0, upper: true, value: 0.25 };
+        let y = Plane::Axis { axis: 1, upper: false, value: 0.5 };
+        assert_eq!(meet([&p, &x, &y]), Meeting::Point(DVec3::new(0.25, 0.5, 0.25)));
+        assert_eq!(meet([&far, &x, &y]), Meeting::Unfit);
+        assert_eq!(meet([&p, &tiny, &y]), Meeting::Unfit);
+        assert_eq!(meet([&p, &coefficients, &y]), Meeting::Unfit);
+        assert_eq!(meet([&x, &x, &y]), Meeting::Dependent);
+    }
+}
