@@ -49,7 +49,7 @@
 
 use crate::body::{Aabb, Body};
 use crate::frustum::{abs_cross, corner_bits, creased_pair, Apex, Frustum, HullOutline, Origin};
-use crate::meet::{meet, Meeting};
+use crate::fixed::{meet, Meeting};
 use crate::number::Exact;
 use crate::plane::{intersect3, Plane};
 use crate::polytope::{point_side, ROUNDING_ULPS};
@@ -1466,7 +1466,7 @@ impl CertifiedClipper {
     /// vertex passes through it exactly, so any three independent ones give
     /// it; the signs that placed it were proven already, so only its
     /// coordinates need exact arithmetic, not the whole body. That is done
-    /// in fixed-width integers on the stack ([`crate::meet`]) when the
+    /// in fixed-width integers on the stack ([`crate::fixed`]) when the
     /// planes' values fit, else with big integers (which allocate).
     #[cold]
     fn exact_vertex(&self, v: usize) -> Option<DVec3> {

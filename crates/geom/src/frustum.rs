@@ -337,9 +337,11 @@ fn orient_direction_past_static_filter(p: DVec3, q: DVec3, r: DVec3, dir: DVec3)
     fn eval<T: Ring>(p: DVec3, q: DVec3, r: DVec3, dir: DVec3) -> T {
         dot(&cross(&diff::<T>(q, p), &diff::<T>(r, p)), &lift::<T>(dir))
     }
+    // NOTE: fixed-width integers before big integers: a sun parallel to a
+    // frustum face lands here on every frame, and big integers allocate.
     match eval::<Filtered>(p, q, r, dir).sign() {
         Some(s) => s,
-        None => eval::<Exact>(p, q, r, dir).sign(),
+        None => crate::fixed::direction_side(p, q, r, dir).unwrap_or_else(|| eval::<Exact>(p, q, r, dir).sign()),
     }
 }
 

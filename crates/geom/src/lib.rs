@@ -39,7 +39,7 @@ mod camera;
 mod certified;
 mod error;
 mod frustum;
-mod meet;
+mod fixed;
 mod number;
 mod plane;
 mod polytope;

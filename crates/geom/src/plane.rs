@@ -5,7 +5,7 @@
 //! evaluated by the predicates in a filtered or exact ring. The halfspace a
 //! plane bounds is `a·x + b·y + c·z + d ≤ 0`.
 
-use crate::number::{cross, diff, dot, lift, Ring};
+use crate::number::{cross, diff, dot, lift, scale_pow2, Ring};
 use glam::{DVec3, DVec4};
 
 /// A closed halfspace bounded by an exactly defined plane.
@@ -117,6 +117,16 @@ impl Plane {
         let scale = len.max(d.v.abs() / (1.0 + self.magnitude()));
         if len > 0.0 && len.is_finite() && err <= len * 2f64.powi(-40) && d.e <= scale * 2f64.powi(-40) * (1.0 + self.magnitude()) {
             return (n / len).extend(d.v / len);
+        }
+        if let Some(c) = crate::fixed::coefficients(self) {
+            // NOTE: scaled by the largest normal component's power of two,
+            // so every component is at most 2^128 and the length finite;
+            // the offset is divided by the length before its scaling, since
+            // d/|n| (a distance) stays in range where d alone may not.
+            let Some(top) = c[..3].iter().filter(|(m, _)| *m != 0.0).map(|(_, k)| *k).max() else { return DVec4::ZERO };
+            let n = DVec3::from_array(std::array::from_fn(|i| scale_pow2(c[i].0, c[i].1 - top)));
+            let len = n.length();
+            return (n / len).extend(scale_pow2(c[3].0 / len, c[3].1 - top));
         }
         use crate::number::Exact;
         let e = self.coefficients::<Exact>();

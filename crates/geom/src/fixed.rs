@@ -1,16 +1,19 @@
-//! Where three exactly defined planes meet, in fixed-width integers.
+//! Exact signs and points in fixed-width integers: where three exactly
+//! defined planes meet, and on which side of a plane a direction points.
 //!
 //! The float path places a vertex from its planes' exact intersection when
 //! the proven bound of its float estimate is too loose for output (planes
-//! meeting at small angles). Big integers can do that for any input, but
-//! they allocate and cost tens of thousands of instructions a vertex. The
-//! values defining a vertex's planes almost always span few binades on each
-//! axis, and then the whole computation fits a fixed number of 64-bit limbs
-//! on the stack.
+//! meeting at small angles), and decides a light direction against a
+//! frustum face exactly when the filter cannot (a sun parallel to the face).
+//! Big integers can do both for any input, but they allocate and cost tens
+//! of thousands of instructions. The values involved almost always span few
+//! binades on each axis, and then the whole computation fits a fixed number
+//! of 64-bit limbs on the stack.
 //!
 //! Scaling: the diagonal map `x ↦ (2^-e₀ x₀, 2^-e₁ x₁, 2^-e₂ x₂)` takes the
 //! plane through given points (and points at infinity) to the plane through
-//! their images, and the planes' meeting point to its image. With `e_a` the
+//! their images, and the planes' meeting point to its image; it multiplies
+//! a determinant of three vectors by a positive factor. With `e_a` the
 //! exponent of the last mantissa bit of axis `a`'s smallest nonzero value,
 //! every image coordinate is an integer, and the scaling is exact in `f64`.
 //!
@@ -22,7 +25,7 @@
 //! offset and a cross product of normals) below 2^609, inside [`LIMBS`]
 //! limbs. An overflow is still detected, and declines.
 
-use crate::number::{scale_pow2, Ring};
+use crate::number::{cross, dot, scale_pow2, Ring};
 use crate::plane::{intersect3, Plane};
 use glam::DVec3;
 
@@ -66,64 +69,109 @@ pub(crate) fn meet(planes: [&Plane; 3]) -> Meeting {
     Meeting::Point(DVec3::new(coord(0), coord(1), coord(2)))
 }
 
+/// A plane's exact coefficients `[a, b, c, d]` (see [`Plane::coefficients`]),
+/// each correctly rounded, as `(m, k)` for the value `m · 2^k`; `None` when
+/// its values do not fit.
+///
+/// NOTE: for the scaling `D = diag(2^-e)`, `(Da) × (Db) = det(D) D⁻¹ (a × b)`,
+/// so the scaled plane's normal is `n' = det(D) D⁻¹ n` and its offset
+/// `d' = −n'·(Dp) = det(D) d`: normal component `a` takes `e_a − Σe` off
+/// its exponent, the offset `−Σe` (an axis plane, with zeros off its axis,
+/// has `Σe = e_axis` and comes out the same way).
+pub(crate) fn coefficients(plane: &Plane) -> Option<[(f64, i64); 4]> {
+    let e = axis_exponents([plane, plane, plane])?;
+    let c = scaled_plane(plane, e).coefficients::<Fixed>();
+    if c.iter().any(|v| v.overflow) {
+        return None;
+    }
+    let sum = e.iter().map(|&e| e as i64).sum::<i64>();
+    Some(std::array::from_fn(|i| {
+        let (m, k) = c[i].approximate();
+        (m, k as i64 + sum - if i < 3 { e[i] as i64 } else { 0 })
+    }))
+}
+
 /// Per axis, the exponent `e` of the last mantissa bit of the smallest
-/// nonzero value; `None` when the values do not fit (see the module notes).
+/// nonzero value among the planes' defining values; `None` when they do not
+/// fit (see the module notes).
 fn axis_exponents(planes: [&Plane; 3]) -> Option<[i32; 3]> {
-    // Magnitudes as bit patterns (ordered like the values for non-negative
-    // floats); zero is left out of the smallest.
-    let mut largest = [0u64; 3];
-    let mut smallest = [u64::MAX; 3];
-    let mut values = [(0usize, 0.0f64); 27];
+    let mut points = [DVec3::ZERO; 9];
     let mut n = 0;
     for plane in planes {
-        let points: &[DVec3] = match plane {
+        let defining: [DVec3; 3] = match *plane {
             Plane::Points(ps) => ps,
-            Plane::PointsDirection { p, q, direction } => &[*p, *q, *direction],
+            Plane::PointsDirection { p, q, direction } => [p, q, direction],
+            // An axis plane's value, on its axis; zeros elsewhere fit any scale.
             Plane::Axis { axis, value, .. } => {
-                values[n] = (*axis as usize, *value);
-                n += 1;
-                &[]
+                let mut v = DVec3::ZERO;
+                v[axis as usize] = value;
+                [v; 3]
             }
             Plane::Coefficients { .. } => return None,
         };
-        for p in points {
-            for axis in 0..3 {
-                values[n] = (axis, p[axis]);
-                n += 1;
-            }
-        }
+        points[n..n + 3].copy_from_slice(&defining);
+        n += 3;
     }
-    for &(axis, v) in &values[..n] {
-        let bits = v.to_bits() & !(1 << 63);
-        largest[axis] = largest[axis].max(bits);
-        if bits != 0 {
-            smallest[axis] = smallest[axis].min(bits);
-        }
-    }
+    exponents_of(&points[..n])
+}
+
+/// Per axis, the exponent of the last mantissa bit of the smallest nonzero
+/// coordinate (0 for an axis of zeros); `None` for a subnormal, or when an
+/// axis spans more than [`MAX_SPREAD`] binades.
+fn exponents_of(points: &[DVec3]) -> Option<[i32; 3]> {
     let unit_exponent = |bits: u64| (bits >> 52) as i32 - 1075;
     let mut out = [0; 3];
-    for axis in 0..3 {
-        if largest[axis] == 0 {
-            continue; // all zero: any scale
+    for (axis, e) in out.iter_mut().enumerate() {
+        // Magnitudes as bit patterns (ordered like the values for
+        // non-negative floats); zero is left out of the smallest.
+        let (mut largest, mut smallest) = (0u64, u64::MAX);
+        for p in points {
+            let bits = p[axis].to_bits() & !(1 << 63);
+            largest = largest.max(bits);
+            if bits != 0 {
+                smallest = smallest.min(bits);
+            }
+        }
+        if largest == 0 {
+            continue;
         }
         // A subnormal has no implicit bit; a scale of 2^-e must be normal.
-        if smallest[axis] < f64::MIN_POSITIVE.to_bits() || unit_exponent(smallest[axis]) < -1022 {
+        if smallest < f64::MIN_POSITIVE.to_bits() || unit_exponent(smallest) < -1022 || unit_exponent(largest) - unit_exponent(smallest) > MAX_SPREAD {
             return None;
         }
-        let e = unit_exponent(smallest[axis]);
-        if unit_exponent(largest[axis]) - e > MAX_SPREAD {
-            return None;
-        }
-        out[axis] = e;
+        *e = unit_exponent(smallest);
     }
     Some(out)
+}
+
+/// Factors `2^-e` per axis (normal numbers for the exponents
+/// [`exponents_of`] gives).
+fn factors(e: [i32; 3]) -> DVec3 {
+    DVec3::from_array(e.map(|e| f64::from_bits(((1023 - e) as u64) << 52)))
+}
+
+/// The exact sign of `((q − p) × (r − p)) · d`, or `None` when the values
+/// do not fit the fixed width (the caller falls back to big integers).
+///
+/// NOTE: a positive scaling per axis multiplies the determinant by a
+/// positive factor: its sign is that of the scaled, integer-valued one.
+pub(crate) fn direction_side(p: DVec3, q: DVec3, r: DVec3, d: DVec3) -> Option<i8> {
+    let f = factors(exponents_of(&[p, q, r, d])?);
+    let lift = |v: DVec3| {
+        let v = v * f;
+        [Fixed::lit(v.x), Fixed::lit(v.y), Fixed::lit(v.z)]
+    };
+    let (p, q, r, d) = (lift(p), lift(q), lift(r), lift(d));
+    let diff = |a: &[Fixed; 3], b: &[Fixed; 3]| [a[0].sub(&b[0]), a[1].sub(&b[1]), a[2].sub(&b[2])];
+    let v = dot(&cross(&diff(&q, &p), &diff(&r, &p)), &d);
+    (!v.overflow).then(|| v.sign())
 }
 
 /// The plane's image under the scaling by `2^-e` per axis (exact: every
 /// image value is an integer below 2^85).
 fn scaled_plane(plane: &Plane, e: [i32; 3]) -> Plane {
-    let factor = e.map(|e| f64::from_bits(((1023 - e) as u64) << 52));
-    let s = |p: DVec3| DVec3::new(p.x * factor[0], p.y * factor[1], p.z * factor[2]);
+    let factor = factors(e);
+    let s = |p: DVec3| p * factor;
     match *plane {
         Plane::Points([p, q, r]) => Plane::Points([s(p), s(q), s(r)]),
         Plane::PointsDirection { p, q, direction } => Plane::PointsDirection { p: s(p), q: s(q), direction: s(direction) },
@@ -146,6 +194,15 @@ pub(crate) struct Fixed {
 
 impl Fixed {
     const ZERO: Fixed = Fixed { mag: [0; LIMBS], len: 0, negative: false, overflow: false };
+
+    /// −1, 0 or 1.
+    fn sign(&self) -> i8 {
+        match (self.len, self.negative) {
+            (0, _) => 0,
+            (_, true) => -1,
+            _ => 1,
+        }
+    }
 
     fn poisoned() -> Fixed {
         Fixed { overflow: true, ..Fixed::ZERO }
@@ -307,7 +364,7 @@ impl Ring for Fixed {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::number::Exact;
+    use crate::number::{diff, lift, Exact};
     use proptest::prelude::Rng;
     use proptest::test_runner::{RngAlgorithm, TestRng};
 
@@ -397,6 +454,54 @@ mod tests {
         }
         eprintln!("{points} points, {dependent} dependent, {unfit} unfit");
         assert!(points > 2500 && dependent > 900 && unfit < 200, "{points} points, {dependent} dependent, {unfit} unfit");
+    }
+
+    /// A plane's coefficients, each correctly rounded: equal to the big
+    /// integers' correctly rounded values, bit for bit.
+    #[test]
+    fn coefficients_are_correctly_rounded() {
+        let mut rng = TestRng::deterministic_rng(RngAlgorithm::ChaCha);
+        for k in 0..3000 {
+            let s = 2f64.powi((rng.next_u64() % 81) as i32 - 40);
+            let o = DVec3::new(unit(&mut rng), unit(&mut rng), unit(&mut rng)) * s * 8.0;
+            let mut pt = || o + DVec3::new(unit(&mut rng), unit(&mut rng), unit(&mut rng)) * s;
+            let plane = match k % 3 {
+                0 => Plane::Points([pt(), pt(), pt()]),
+                1 => Plane::PointsDirection { p: pt(), q: pt(), direction: pt() - o },
+                _ => Plane::Axis { axis: (k % 5 % 3) as u8, upper: k % 2 == 0, value: pt().y },
+            };
+            let got = coefficients(&plane).expect("fits");
+            let want = plane.coefficients::<Exact>();
+            for i in 0..4 {
+                let want = Exact::ratio_to_f64(&want[i], &Exact::lit(1.0));
+                assert_eq!(scale_pow2(got[i].0, got[i].1), want, "case {k}, coefficient {i}: {plane:?}");
+            }
+        }
+    }
+
+    /// Directions against planes through rounded, nearly coplanar points
+    /// (the sign is a rounding accident) and exactly in them.
+    #[test]
+    fn direction_sides_agree_with_big_integers() {
+        let mut rng = TestRng::deterministic_rng(RngAlgorithm::ChaCha);
+        let (mut zeros, mut signs) = (0, 0);
+        for k in 0..6000 {
+            let s = 2f64.powi((rng.next_u64() % 41) as i32 - 20);
+            let o = DVec3::new(unit(&mut rng), unit(&mut rng), unit(&mut rng)) * s * 8.0;
+            let (u, v) = (DVec3::new(unit(&mut rng), unit(&mut rng), unit(&mut rng)), DVec3::new(unit(&mut rng), unit(&mut rng), unit(&mut rng)));
+            let (p, q, r) = (o, o + u * s, o + v * s);
+            let d = match k % 3 {
+                0 => q - p,                                  // in the plane, exactly
+                1 => (u * unit(&mut rng) + v * unit(&mut rng)) * s, // in it up to rounding
+                _ => DVec3::new(unit(&mut rng), unit(&mut rng), unit(&mut rng)),
+            };
+            let want = dot(&cross(&diff::<Exact>(q, p), &diff::<Exact>(r, p)), &lift::<Exact>(d)).sign();
+            let Some(got) = direction_side(p, q, r, d) else { panic!("case {k} declined") };
+            assert_eq!(got, want, "case {k}: {p:?} {q:?} {r:?} {d:?}");
+            zeros += (got == 0) as usize;
+            signs += (got != 0) as usize;
+        }
+        assert!(zeros > 1000 && signs > 3000, "{zeros} zeros, {signs} signs");
     }
 
     /// Exponents too far apart on one axis, subnormals and coefficient
