@@ -1,0 +1,120 @@
+//! Allocation in the hot path, counted with a global allocator (per
+//! thread, so that tests running side by side do not see each other's).
+//!
+//! - A frame allocates nothing once the result buffer exists, over fits of
+//!   every method, light kind and split count. The one exception lies in the
+//!   body engine: its exact engine, taken when the certified float path
+//!   cannot prove a decision, allocates; so a fit may allocate only when one
+//!   of its bodies comes from that engine. Fitting and culling themselves
+//!   never do.
+//! - The certified float path allocates nothing once a `Body` has been used,
+//!   including the bodies that place a vertex from its planes' exact
+//!   intersection: checked over every fixture.
+
+use glam::DVec3;
+use shadowfocus::cli::case::parse_case;
+use shadowfocus::focus::*;
+use shadowfocus::geom::{focus_body_into, Aabb, Body, Camera, Frustum, Light};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use std::path::Path;
+
+struct Counting;
+
+thread_local! {
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+}
+
+/// Allocations made by this thread so far.
+fn allocations() -> usize {
+    ALLOCATIONS.with(|n| n.get())
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        // NOTE: `try_with`: a thread's last allocations may come after its
+        // thread-locals are gone.
+        let _ = ALLOCATIONS.try_with(|n| n.set(n.get() + 1));
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+#[test]
+fn fitting_a_frame_does_not_allocate() {
+    let cam = Camera { eye: DVec3::new(0.0, 2.0, 10.0), forward: DVec3::new(0.1, -0.1, -1.0), up: DVec3::Y, fovy: 1.0, aspect: 1.5, near: 0.5, far: 100.0 };
+    let scene = Aabb::new(DVec3::new(-50.0, 0.0, -100.0), DVec3::new(50.0, 20.0, 20.0)).unwrap();
+    let spot_cam = Camera { eye: DVec3::new(10.0, 30.0, 0.0), forward: DVec3::new(-0.2, -1.0, -0.5), ..cam };
+    let lights = [
+        Light::directional(DVec3::new(0.4, -1.0, 0.3)).unwrap(),
+        Light::directional(DVec3::new(0.1, -0.3, -1.0)).unwrap(),
+        Light::point(DVec3::new(30.0, 15.0, 15.0)).unwrap(),
+        Light::point(DVec3::new(0.0, 2.0, -20.0)).unwrap(),
+        Light::spot(spot_cam.eye, Frustum::from_camera(&spot_cam).unwrap()).unwrap(),
+    ];
+    let casters = [Aabb::new(DVec3::new(-1.0, 0.0, -5.0), DVec3::new(1.0, 3.0, -3.0)).unwrap(); 8];
+    let mut idx = [0u32; 8];
+    let mut out = FocusResult::new();
+    let mut run = |out: &mut FocusResult, check: bool| {
+        for light in &lights {
+            for method in [Method::Uniform, Method::Psm, Method::Lispsm, Method::Tsm] {
+                for count in [1, 4] {
+                    for stable in [false, true] {
+                        let s = FocusSettings { method, stable, splits: SplitSettings { count, ..Default::default() }, ..Default::default() };
+                        let a0 = allocations();
+                        fit(&cam, light, &scene, &s, out).unwrap();
+                        let a1 = allocations();
+                        for m in out.maps() {
+                            cull_casters(m, &casters, &mut idx);
+                        }
+                        let a2 = allocations();
+                        let exact_engine = out.maps().iter().filter(|m| !m.body().stats().float_path).count();
+                        if !check {
+                            continue;
+                        }
+                        assert_eq!(a2, a1, "culling allocated");
+                        assert!(a1 == a0 || exact_engine > 0, "{light:?} {method:?} {count} {stable}: {} allocations on the float path", a1 - a0);
+                    }
+                }
+            }
+        }
+    };
+    run(&mut out, false); // first use fills the bodies' scratch space
+    run(&mut out, true);
+}
+
+#[test]
+fn float_path_bodies_do_not_allocate() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/cases");
+    let mut cases = Vec::new();
+    for name in ["classic", "directional", "point", "spot", "scene", "extreme"] {
+        let text = std::fs::read_to_string(root.join(format!("{name}.jsonl"))).unwrap();
+        cases.extend(text.lines().filter(|l| !l.trim().is_empty()).map(|l| parse_case(l).unwrap()));
+    }
+    let mut body = Body::new();
+    // A first pass sizes the body's scratch space.
+    for case in &cases {
+        focus_body_into(&mut body, &case.view, &case.light, &case.scene).unwrap();
+    }
+    let (mut float_path, mut placed_exactly, mut exact_engine) = (0, 0, 0);
+    for case in &cases {
+        let before = allocations();
+        focus_body_into(&mut body, &case.view, &case.light, &case.scene).unwrap();
+        let allocated = allocations() - before;
+        let stats = body.stats();
+        if stats.float_path {
+            assert_eq!(allocated, 0, "{}", case.id);
+            float_path += 1;
+            placed_exactly += (stats.exact_evaluations > 0) as usize;
+        } else {
+            exact_engine += 1;
+        }
+    }
+    eprintln!("{float_path} float-path bodies ({placed_exactly} with a vertex placed exactly), {exact_engine} from the exact engine");
+    assert!(float_path > 3700 && placed_exactly > 50, "{float_path} float-path bodies, {placed_exactly} placed exactly");
+}
