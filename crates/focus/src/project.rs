@@ -325,9 +325,8 @@ pub(crate) fn texel_size(m: &DMat4, light: DVec4, p: DVec3, res: u32) -> f64 {
     // The area scale on the plane ⊥ t̂, in any orthonormal basis b₁, b₂ of
     // it, is (g_x·b₁)(g_y·b₂) − (g_x·b₂)(g_y·b₁) = (g_x × g_y)·(b₁ × b₂),
     // and b₁ × b₂ = t̂: no basis is needed.
-    // NOTE: the gradients are scaled by 1/w² before the cross product, as
-    // they are, so that a large w cannot overflow what the quotient keeps
-    // finite.
+    // NOTE: each gradient is divided by w² before the cross product, as the
+    // quotient rule has it, so that a large w cannot overflow the product.
     let inv_w2 = 1.0 / (q.w * q.w);
     let w_row = m.row(3).truncate();
     let gx = (m.row(0).truncate() * q.w - w_row * q.x) * inv_w2;
