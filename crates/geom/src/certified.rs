@@ -1480,29 +1480,18 @@ impl CertifiedClipper {
         for i in 0..n {
             for j in i + 1..n {
                 for k in j + 1..n {
-                    match meet([src(i), src(j), src(k)]) {
-                        Meeting::Point(x) => return x.is_finite().then_some(x),
-                        Meeting::Dependent => {}
-                        Meeting::Unfit => return self.exact_vertex_big(v),
-                    }
-                }
-            }
-        }
-        None
-    }
-
-    /// [`CertifiedClipper::exact_vertex`] with big integers: any input.
-    #[cold]
-    fn exact_vertex_big(&self, v: usize) -> Option<DVec3> {
-        let planes: Vec<[Exact; 4]> = bits(self.on[v]).map(|p| self.planes[p].src.coefficients::<Exact>()).collect();
-        for i in 0..planes.len() {
-            for j in i + 1..planes.len() {
-                for k in j + 1..planes.len() {
-                    let h = intersect3(&planes[i], &planes[j], &planes[k]);
-                    if h[3].sign() != 0 {
-                        let x = DVec3::from_array(std::array::from_fn(|c| Exact::ratio_to_f64(&h[c], &h[3]) + 0.0));
-                        return x.is_finite().then_some(x);
-                    }
+                    let x = match meet([src(i), src(j), src(k)]) {
+                        Meeting::Point(x) => x,
+                        Meeting::Dependent => continue,
+                        Meeting::Unfit => {
+                            let h = intersect3(&src(i).coefficients::<Exact>(), &src(j).coefficients::<Exact>(), &src(k).coefficients::<Exact>());
+                            if h[3].sign() == 0 {
+                                continue;
+                            }
+                            DVec3::from_array(std::array::from_fn(|c| Exact::ratio_to_f64(&h[c], &h[3]) + 0.0))
+                        }
+                    };
+                    return x.is_finite().then_some(x);
                 }
             }
         }

@@ -365,6 +365,7 @@ impl Ring for Fixed {
 mod tests {
     use super::*;
     use crate::number::{diff, lift, Exact};
+    use crate::wide::tests::unit;
     use proptest::prelude::Rng;
     use proptest::test_runner::{RngAlgorithm, TestRng};
 
@@ -375,8 +376,9 @@ mod tests {
         (h[3].sign() != 0).then(|| DVec3::from_array(std::array::from_fn(|k| Exact::ratio_to_f64(&h[k], &h[3]))))
     }
 
-    fn unit(rng: &mut TestRng) -> f64 {
-        (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    /// A vector of uniform values in [−1, 1).
+    fn random_vec(rng: &mut TestRng) -> DVec3 {
+        DVec3::new(unit(rng), unit(rng), unit(rng))
     }
 
     /// Fixed-width integers against `i128` where both apply.
@@ -426,8 +428,8 @@ mod tests {
         let (mut points, mut dependent, mut unfit) = (0, 0, 0);
         for k in 0..4000 {
             let s = 2f64.powi((rng.next_u64() % 61) as i32 - 30);
-            let o = DVec3::new(unit(&mut rng), unit(&mut rng), unit(&mut rng)) * s * 4.0;
-            let mut pt = || o + DVec3::new(unit(&mut rng), unit(&mut rng), unit(&mut rng)) * s;
+            let o = random_vec(&mut rng) * s * 4.0;
+            let mut pt = || o + random_vec(&mut rng) * s;
             let mut plane = |i: u64| match (k + i) % 4 {
                 0 | 1 => Plane::Points([pt(), pt(), pt()]),
                 2 => Plane::PointsDirection { p: pt(), q: pt(), direction: pt() - o },
@@ -463,8 +465,8 @@ mod tests {
         let mut rng = TestRng::deterministic_rng(RngAlgorithm::ChaCha);
         for k in 0..3000 {
             let s = 2f64.powi((rng.next_u64() % 81) as i32 - 40);
-            let o = DVec3::new(unit(&mut rng), unit(&mut rng), unit(&mut rng)) * s * 8.0;
-            let mut pt = || o + DVec3::new(unit(&mut rng), unit(&mut rng), unit(&mut rng)) * s;
+            let o = random_vec(&mut rng) * s * 8.0;
+            let mut pt = || o + random_vec(&mut rng) * s;
             let plane = match k % 3 {
                 0 => Plane::Points([pt(), pt(), pt()]),
                 1 => Plane::PointsDirection { p: pt(), q: pt(), direction: pt() - o },
@@ -487,13 +489,13 @@ mod tests {
         let (mut zeros, mut signs) = (0, 0);
         for k in 0..6000 {
             let s = 2f64.powi((rng.next_u64() % 41) as i32 - 20);
-            let o = DVec3::new(unit(&mut rng), unit(&mut rng), unit(&mut rng)) * s * 8.0;
-            let (u, v) = (DVec3::new(unit(&mut rng), unit(&mut rng), unit(&mut rng)), DVec3::new(unit(&mut rng), unit(&mut rng), unit(&mut rng)));
+            let o = random_vec(&mut rng) * s * 8.0;
+            let (u, v) = (random_vec(&mut rng), random_vec(&mut rng));
             let (p, q, r) = (o, o + u * s, o + v * s);
             let d = match k % 3 {
                 0 => q - p,                                  // in the plane, exactly
                 1 => (u * unit(&mut rng) + v * unit(&mut rng)) * s, // in it up to rounding
-                _ => DVec3::new(unit(&mut rng), unit(&mut rng), unit(&mut rng)),
+                _ => random_vec(&mut rng),
             };
             let want = dot(&cross(&diff::<Exact>(q, p), &diff::<Exact>(r, p)), &lift::<Exact>(d)).sign();
             let Some(got) = direction_side(p, q, r, d) else { panic!("case {k} declined") };

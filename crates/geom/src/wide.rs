@@ -201,7 +201,7 @@ fn wide_det_sign(int: &[[i128; 3]; 4]) -> i8 {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use proptest::prelude::Rng;
     use proptest::test_runner::{RngAlgorithm, TestRng};
@@ -230,7 +230,7 @@ mod tests {
     }
 
     /// A uniform value in [−1, 1) from the test suite's deterministic generator.
-    fn unit(rng: &mut TestRng) -> f64 {
+    pub(crate) fn unit(rng: &mut TestRng) -> f64 {
         (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
     }
 
