@@ -38,6 +38,10 @@ enum Command {
         /// Time every case and print one JSON summary line.
         #[arg(long)]
         bench: bool,
+        /// With --bench and one split: time the frustum, the body and the
+        /// map's fit apart, as well as the whole fit.
+        #[arg(long, requires = "bench")]
+        phases: bool,
     },
     /// Render a built-in scene (or a .gltf/.glb file) with one method.
     Render {
@@ -113,9 +117,16 @@ fn run(command: Command) -> Result<bool, String> {
             }
             failures(quiet_pipe(cli::body::run(input, BufWriter::new(io::stdout().lock())))?)
         }
-        Command::Fit { options, input, bench } => {
+        Command::Fit { options, input, bench, phases } => {
             let settings = options.settings()?;
             let input = open(&input).map_err(io_err)?;
+            if phases {
+                if settings.splits.count != 1 {
+                    return Err("--phases times one map per case: use it without --splits (or with --splits 1)".into());
+                }
+                println!("{}", cli::fit::phases(input, &settings).map_err(io_err)?);
+                return Ok(true);
+            }
             if bench {
                 println!("{}", cli::fit::bench(input, &settings).map_err(io_err)?);
                 return Ok(true);

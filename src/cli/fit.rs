@@ -3,8 +3,9 @@
 use super::body::{case_median_ns, median, p99};
 use super::case::{case_lines, parse_case, Case};
 use serde_json::{json, Value};
-use shadowfocus_focus::{camera_from_corners, fit, FocusResult, FocusSettings, Method, SplitScheme, SplitSettings};
-use shadowfocus_geom::Camera;
+use shadowfocus_focus::{camera_from_corners, fit, fit_map, FocusResult, FocusSettings, Method, SplitScheme, SplitSettings};
+use shadowfocus_geom::{focus_body_into, Body, Camera, Frustum};
+use std::hint::black_box;
 use std::io::{BufRead, Write};
 
 /// Method and split choices shared by `fit`, `render` and `demo`.
@@ -141,4 +142,93 @@ pub fn bench(input: impl BufRead, settings: &FocusSettings) -> std::io::Result<V
         }))
         .collect();
     Ok(json!({"cases": ns.len(), "method": settings.method.name(), "splits": settings.splits.count, "median_ns": median(&mut ns), "p99_ns": p99(&mut ns)}))
+}
+
+/// `--bench --phases`: where one map's time goes. Over the cases that
+/// `fit` answers with exactly one map, the median time of each step on its
+/// own (lines that do not parse or give no camera are skipped, as in
+/// [`bench`]): the view frustum from the camera (its exact validation included),
+/// the body in that frustum, fitting the map to that body, and the whole
+/// `fit`. Medians of the parts need not add up to the median of the whole.
+pub fn phases(input: impl BufRead, settings: &FocusSettings) -> std::io::Result<Value> {
+    let mut result = FocusResult::new();
+    let mut body = Body::new();
+    let (mut frustum_ns, mut body_ns, mut map_ns, mut whole_ns) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let (mut other, mut skipped) = (0, 0);
+    for line in case_lines(input) {
+        let line = line?;
+        let Ok(c) = parse_case(&line) else {
+            skipped += 1;
+            continue;
+        };
+        let Ok(cam) = case_camera(&c) else {
+            skipped += 1;
+            continue;
+        };
+        let one_map = fit(&cam, &c.light, &c.scene, settings, &mut result).is_ok() && result.maps().len() == 1;
+        // NOTE: a point light that `fit` truncates or splits into cube faces
+        // has no single body to time apart; such cases are only counted.
+        let Some(view) = one_map.then(|| Frustum::from_camera(&cam).ok()).flatten() else {
+            other += 1;
+            continue;
+        };
+        if focus_body_into(&mut body, &view, &c.light, &c.scene).is_err() || fit_map(&cam, &c.light, &body, settings).is_err() {
+            other += 1;
+            continue;
+        }
+        frustum_ns.push(case_median_ns(|| {
+            let _ = black_box(Frustum::from_camera(black_box(&cam)));
+        }));
+        body_ns.push(case_median_ns(|| {
+            let _ = focus_body_into(&mut body, black_box(&view), &c.light, &c.scene);
+        }));
+        map_ns.push(case_median_ns(|| {
+            let _ = black_box(fit_map(&cam, &c.light, black_box(&body), settings));
+        }));
+        whole_ns.push(case_median_ns(|| {
+            let _ = fit(&cam, &c.light, &c.scene, settings, &mut result);
+        }));
+    }
+    Ok(json!({
+        "cases": whole_ns.len(),
+        "cases_not_timed": other,
+        "lines_skipped": skipped,
+        "method": settings.method.name(),
+        "frustum_median_ns": median(&mut frustum_ns),
+        "body_median_ns": median(&mut body_ns),
+        "fit_map_median_ns": median(&mut map_ns),
+        "whole_fit_median_ns": median(&mut whole_ns),
+    }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every readable case is either timed in all four phases or counted
+    /// as not timed: here a point light inside the view, which `fit` answers
+    /// with six cube faces.
+    #[test]
+    fn phases_time_one_map_cases_and_count_the_rest() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/cases/smoke.jsonl");
+        let text = std::fs::read_to_string(path).unwrap();
+        let lines: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).take(8).collect();
+        let inside = r#"{"id": "light-in-view", "view": {"eye": [0, 2, 10], "forward": [0, 0, -1], "up": [0, 1, 0], "fovy_deg": 60, "aspect": 1.5, "near": 0.5, "far": 50}, "light": {"point": [0, 2, 0]}, "scene": {"min": [-20, 0, -40], "max": [20, 8, 5]}}"#;
+        let input = format!("{}\n{inside}\nnot json\n", lines.join("\n"));
+        let settings = FocusSettings::default();
+        let mut result = FocusResult::new();
+        let c = parse_case(inside).unwrap();
+        fit(&case_camera(&c).unwrap(), &c.light, &c.scene, &settings, &mut result).unwrap();
+        assert_eq!(result.maps().len(), 6);
+
+        let r = phases(input.as_bytes(), &settings).unwrap();
+        let count = |key: &str| r[key].as_u64().unwrap();
+        assert_eq!(count("cases") + count("cases_not_timed") + count("lines_skipped"), lines.len() as u64 + 2);
+        assert!(count("cases_not_timed") >= 1 && count("lines_skipped") >= 1);
+        assert!(count("cases") >= 1);
+        for key in ["frustum_median_ns", "body_median_ns", "fit_map_median_ns", "whole_fit_median_ns"] {
+            let t = r[key].as_f64().unwrap();
+            assert!(t > 0.0 && t.is_finite(), "{key}: {t}");
+        }
+    }
 }
