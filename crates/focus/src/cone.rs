@@ -103,23 +103,44 @@ fn nearest_on_simplex(w: &mut [DVec3; 4], n: &mut usize) -> DVec3 {
     best.1
 }
 
-/// The maximin axis of `dirs` (unit vectors, via `get`), or `None`.
-pub(crate) fn cone_axis(count: usize, get: impl Fn(usize) -> DVec3) -> Option<DVec3> {
-    if count == 0 {
-        return None;
-    }
-    let support = |v: DVec3| -> DVec3 {
-        let mut best = (f64::INFINITY, DVec3::ZERO);
-        for i in 0..count {
-            let u = get(i);
-            let d = v.dot(u);
-            if d < best.0 {
-                best = (d, u);
-            }
+/// The direction of `units` least aligned with `a`, and its dot product
+/// with `a` (`(∞, 0)` when there is none).
+pub(crate) fn least_aligned(units: &[DVec3], a: DVec3) -> (f64, DVec3) {
+    let mut worst = (f64::INFINITY, DVec3::ZERO);
+    for u in units {
+        let d = a.dot(*u);
+        if d < worst.0 {
+            worst = (d, *u);
         }
-        best.1
-    };
-    let mut w = [get(0); 4];
+    }
+    worst
+}
+
+/// Turns `a` toward the direction of `units` least aligned with it, at
+/// most `max_steps` times, until it has a positive dot product with every
+/// one: a cheap search for a cone axis from a guess. `None` when the steps
+/// run out or the sum cancels to zero.
+pub(crate) fn turn_into_cone(units: &[DVec3], mut a: DVec3, max_steps: usize) -> Option<DVec3> {
+    let mut worst = least_aligned(units, a);
+    let mut steps = 0;
+    while !(worst.0 > 0.0) {
+        if steps == max_steps {
+            return None;
+        }
+        a = (a + worst.1).normalize_or_zero();
+        if a == DVec3::ZERO {
+            return None;
+        }
+        worst = least_aligned(units, a);
+        steps += 1;
+    }
+    Some(a)
+}
+
+/// The maximin axis of `dirs` (unit vectors), or `None`.
+pub(crate) fn cone_axis(dirs: &[DVec3]) -> Option<DVec3> {
+    let support = |v: DVec3| least_aligned(dirs, v).1;
+    let mut w = [*dirs.first()?; 4];
     let mut n = 1;
     let mut v = w[0];
     for _ in 0..48 {
@@ -157,7 +178,7 @@ mod tests {
                 DVec3::new(t.cos() * 0.5, t.sin() * 0.5, 1.0).normalize()
             })
             .collect();
-        let a = cone_axis(d.len(), |i| d[i]).unwrap();
+        let a = cone_axis(&d).unwrap();
         assert!((a - DVec3::Z).length() < 1e-9, "{a}");
     }
 
@@ -172,7 +193,7 @@ mod tests {
                 d.push(DVec3::new(x - 0.9, y - 0.9, -2.0).normalize());
             }
         }
-        let a = cone_axis(d.len(), |i| d[i]).unwrap();
+        let a = cone_axis(&d).unwrap();
         assert!(margin(a, &d) > 0.0, "{a} {}", margin(a, &d));
         // Better than the plain −z axis, which is already feasible.
         assert!(margin(a, &d) >= margin(DVec3::NEG_Z, &d) - 1e-12);
@@ -181,8 +202,8 @@ mod tests {
     #[test]
     fn no_axis_when_surrounding() {
         let d = [DVec3::X, DVec3::NEG_X, DVec3::Y, DVec3::NEG_Y, DVec3::Z, DVec3::NEG_Z];
-        assert!(cone_axis(d.len(), |i| d[i]).is_none());
+        assert!(cone_axis(&d).is_none());
         let d = [DVec3::X, DVec3::NEG_X];
-        assert!(cone_axis(d.len(), |i| d[i]).is_none());
+        assert!(cone_axis(&d).is_none());
     }
 }

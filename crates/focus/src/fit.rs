@@ -1,5 +1,6 @@
 //! One frame: splits, bodies, maps, plan.
 
+use crate::cone::turn_into_cone;
 use crate::error::FocusError;
 use crate::frame::{perpendicular_hint, tangent_frame};
 use crate::methods::{fit_body, light_point, Fitted, SplitView};
@@ -278,17 +279,9 @@ fn truncation_frustum(sv: &SplitView, body: &Body, l: DVec3) -> Result<Truncatio
         lo = lo.min(*u);
         hi = hi.max(*u);
     }
-    let mut a = ((lo + hi) * 0.5).normalize_or_zero();
-    // The direction least aligned with `a`, and its dot product.
-    let worst = |a: DVec3| units.iter().map(|u| (a.dot(*u), *u)).fold((f64::INFINITY, DVec3::ZERO), |w, x| if x.0 < w.0 { x } else { w });
-    let mut k = 0;
-    while a != DVec3::ZERO && !(worst(a).0 > 0.0) && k < 64 {
-        a = (a + worst(a).1).normalize_or_zero();
-        k += 1;
-    }
-    if a == DVec3::ZERO || !(worst(a).0 > 0.0) {
-        return Ok(Truncation::NoCone);
-    }
+    let guess = ((lo + hi) * 0.5).normalize_or_zero();
+    let axis = if guess == DVec3::ZERO { None } else { turn_into_cone(units, guess, 64) };
+    let Some(a) = axis else { return Ok(Truncation::NoCone) };
     let hint = perpendicular_hint(sv.basis.forward, sv.basis.right + sv.basis.up);
     let (right, up) = tangent_frame(a, sv.basis.forward, hint);
     let (mut tx, mut ty, mut far) = (0.0f64, 0.0f64, 0.0f64);

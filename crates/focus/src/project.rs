@@ -14,7 +14,7 @@
 //! ([`crate::DepthTest`]); it is derived, never special-cased, and it is
 //! what makes PSM's inverted lights come out with the reversed test.
 
-use crate::cone::cone_axis;
+use crate::cone::{cone_axis, least_aligned, turn_into_cone};
 use crate::frame::tangent_frame;
 use glam::{DMat4, DVec3, DVec4};
 use shadowfocus_geom::MAX_VERTICES;
@@ -141,38 +141,17 @@ fn travel_axis<const N: usize>(pts: &[DVec3], travel: impl Fn(DVec3) -> DVec3, t
         // see every point with w > 0, which the crop checks again.
         *u = t * (1.0 / len);
     }
-    let min_dot = |a: DVec3| -> (f64, DVec3) {
-        let mut worst = (f64::INFINITY, DVec3::ZERO);
-        for u in units.iter() {
-            let d = a.dot(*u);
-            if d < worst.0 {
-                worst = (d, *u);
-            }
-        }
-        worst
-    };
-    let mut a = cone_axis(units.len(), |i| units[i]).unwrap_or(tc);
-    let mut ok = min_dot(a).0 > 0.0;
-    if !ok {
-        if let Some(hint) = axis_hint {
-            let hint = hint.normalize_or_zero();
-            if hint != DVec3::ZERO && min_dot(hint).0 > 0.0 {
-                a = hint;
-                ok = true;
-            }
+    let units = &*units;
+    let a = cone_axis(units).unwrap_or(tc);
+    if least_aligned(units, a).0 > 0.0 {
+        return Some(a);
+    }
+    if let Some(hint) = axis_hint.map(DVec3::normalize_or_zero) {
+        if hint != DVec3::ZERO && least_aligned(units, hint).0 > 0.0 {
+            return Some(hint);
         }
     }
-    let mut iter = 0;
-    while !ok && iter < 16 {
-        let (_, u) = min_dot(a);
-        a = (a + u).normalize_or_zero();
-        if a == DVec3::ZERO {
-            return None;
-        }
-        ok = min_dot(a).0 > 0.0;
-        iter += 1;
-    }
-    ok.then_some(a)
+    turn_into_cone(units, a, 16)
 }
 
 /// The LiSPSM/TSM warp in the image plane: a perspective along the image
