@@ -6,7 +6,7 @@
 //!   body engine: its exact engine, taken when the certified float path
 //!   cannot prove a decision, allocates; so a fit may allocate only when one
 //!   of its bodies comes from that engine. Fitting and culling themselves
-//!   never do.
+//!   never do; nor do preparing a view and fitting from it.
 //! - The certified float path allocates nothing once a `Body` has been used,
 //!   including the bodies that place a vertex from its planes' exact
 //!   intersection: checked over every fixture.
@@ -74,11 +74,18 @@ fn fitting_a_frame_does_not_allocate() {
                         }
                         let a2 = allocations();
                         let exact_engine = out.maps().iter().filter(|m| !m.body().stats().float_path).count();
+                        // The same frame from a view prepared beforehand.
+                        let view = PreparedView::new(&cam, &s).unwrap();
+                        let a3 = allocations();
+                        fit_prepared(&view, light, &scene, out).unwrap();
+                        let a4 = allocations();
                         if !check {
                             continue;
                         }
                         assert_eq!(a2, a1, "culling allocated");
                         assert!(a1 == a0 || exact_engine > 0, "{light:?} {method:?} {count} {stable}: {} allocations on the float path", a1 - a0);
+                        assert_eq!(a3, a2, "preparing a view allocated");
+                        assert!(a4 == a3 || exact_engine > 0, "{light:?} {method:?} {count} {stable}: {} allocations in fit_prepared", a4 - a3);
                     }
                 }
             }

@@ -3,7 +3,7 @@
 use super::body::{case_median_ns, median, p99};
 use super::case::{case_lines, parse_case, Case};
 use serde_json::{json, Value};
-use shadowfocus_focus::{camera_from_corners, fit, fit_map, FocusResult, FocusSettings, Method, SplitScheme, SplitSettings};
+use shadowfocus_focus::{camera_from_corners, fit, fit_map, fit_prepared, FocusResult, FocusSettings, Method, PreparedView, SplitScheme, SplitSettings};
 use shadowfocus_geom::{focus_body_into, Body, Camera, Frustum};
 use std::hint::black_box;
 use std::io::{BufRead, Write};
@@ -123,7 +123,10 @@ pub fn run(input: impl BufRead, mut out: impl Write, settings: &FocusSettings) -
     Ok(failed)
 }
 
-/// `--bench`: per-case median time of a whole fit (bodies included).
+/// `--bench`: per-case median time of a whole fit (bodies included); and,
+/// over the cases whose camera a view can be prepared for, the time of
+/// preparing it ([`PreparedView::new`]) and of one light's fit from it
+/// ([`fit_prepared`]): the cost per light when a camera serves several.
 pub fn bench(input: impl BufRead, settings: &FocusSettings) -> std::io::Result<Value> {
     let mut cases = Vec::new();
     for line in case_lines(input) {
@@ -141,7 +144,27 @@ pub fn bench(input: impl BufRead, settings: &FocusSettings) -> std::io::Result<V
             let _ = fit(cam, &c.light, &c.scene, settings, &mut result);
         }))
         .collect();
-    Ok(json!({"cases": ns.len(), "method": settings.method.name(), "splits": settings.splits.count, "median_ns": median(&mut ns), "p99_ns": p99(&mut ns)}))
+    let (mut prepare_ns, mut prepared_ns) = (Vec::new(), Vec::new());
+    for (c, cam) in &cases {
+        let Ok(view) = PreparedView::new(cam, settings) else { continue };
+        prepare_ns.push(case_median_ns(|| {
+            let _ = black_box(PreparedView::new(black_box(cam), settings));
+        }));
+        prepared_ns.push(case_median_ns(|| {
+            let _ = fit_prepared(black_box(&view), &c.light, &c.scene, &mut result);
+        }));
+    }
+    Ok(json!({
+        "cases": ns.len(),
+        "method": settings.method.name(),
+        "splits": settings.splits.count,
+        "median_ns": median(&mut ns),
+        "p99_ns": p99(&mut ns),
+        "prepared_view_cases": prepared_ns.len(),
+        "prepare_view_median_ns": median(&mut prepare_ns),
+        "fit_prepared_median_ns": median(&mut prepared_ns),
+        "fit_prepared_p99_ns": p99(&mut prepared_ns),
+    }))
 }
 
 /// `--bench --phases`: where one map's time goes. Over the cases that
@@ -204,6 +227,26 @@ pub fn phases(input: impl BufRead, settings: &FocusSettings) -> std::io::Result<
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `--bench` times every readable case whole and, for each camera a view
+    /// can be prepared for, the preparation and the fit from it; a line that
+    /// is not JSON is left out of both.
+    #[test]
+    fn bench_times_whole_and_prepared_fits() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/cases/smoke.jsonl");
+        let text = std::fs::read_to_string(path).unwrap();
+        let lines: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).take(5).collect();
+        let input = format!("{}\nnot json\n", lines.join("\n"));
+        let settings = FocusSettings { splits: SplitSettings { count: 2, ..Default::default() }, ..Default::default() };
+        let r = bench(input.as_bytes(), &settings).unwrap();
+        assert_eq!(r["cases"].as_u64(), Some(lines.len() as u64));
+        assert_eq!(r["prepared_view_cases"].as_u64(), Some(lines.len() as u64));
+        assert_eq!(r["splits"].as_u64(), Some(2));
+        for key in ["median_ns", "p99_ns", "prepare_view_median_ns", "fit_prepared_median_ns", "fit_prepared_p99_ns"] {
+            let t = r[key].as_f64().unwrap();
+            assert!(t > 0.0 && t.is_finite(), "{key}: {t}");
+        }
+    }
 
     /// Every readable case is either timed in all four phases or counted
     /// as not timed: here a point light inside the view, which `fit` answers

@@ -91,7 +91,7 @@ mod splits;
 pub use camera::{camera_from_corners, RecoveredCamera};
 pub use cull::{cull_casters, CasterRegion, MAX_REGION_PLANES};
 pub use error::FocusError;
-pub use fit::{fit, fit_map, MapFit};
+pub use fit::{fit, fit_map, fit_prepared, MapFit, PreparedView};
 pub use frame::S0 as ORIENTATION_BLEND_SIN;
 pub use result::{CubeFace, DepthTest, FocusResult, MapState, Notes, ShadowMap, Skipped};
 pub use settings::{FocusSettings, LispsmSettings, Method, PointMode, PsmSettings, SplitScheme, SplitSettings, TsmSettings, WarpDirection};

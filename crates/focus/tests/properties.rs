@@ -184,6 +184,37 @@ proptest! {
         }
     }
 
+    /// One prepared view serves several lights with exactly the maps that
+    /// separate `fit` calls give (or fails where they fail).
+    #[test]
+    fn prepared_view_fits_like_fit(cam in camera_strategy(), scene in scene_strategy(), lights in proptest::collection::vec(light_strategy(), 3), s in settings_strategy()) {
+        let (mut a, mut b) = (FocusResult::new(), FocusResult::new());
+        let view = PreparedView::new(&cam, &s);
+        for light in &lights {
+            let direct = fit(&cam, light, &scene, &s, &mut a);
+            let prepared = view.as_ref().map_err(|e| e.clone()).and_then(|v| fit_prepared(v, light, &scene, &mut b));
+            match (direct, prepared) {
+                (Ok(()), Ok(())) => {}
+                (Err(e), Err(f)) => {
+                    prop_assert_eq!(e.to_string(), f.to_string());
+                    continue;
+                }
+                (x, y) => return Err(TestCaseError::fail(format!("fit {x:?}, prepared {y:?}"))),
+            }
+            prop_assert_eq!(a.split_depths(), b.split_depths());
+            prop_assert_eq!(a.split_clip_depths(), b.split_clip_depths());
+            prop_assert_eq!((a.skipped, a.notes), (b.skipped, b.notes));
+            prop_assert_eq!(a.maps().len(), b.maps().len());
+            for (x, y) in a.maps().iter().zip(b.maps()) {
+                prop_assert_eq!((x.state, x.split, x.face, x.split_range, x.depth_test, x.method), (y.state, y.split, y.face, y.split_range, y.depth_test, y.method));
+                prop_assert_eq!(x.matrix.to_cols_array().map(f64::to_bits), y.matrix.to_cols_array().map(f64::to_bits));
+                prop_assert_eq!(x.matrix_f32.to_cols_array().map(f32::to_bits), y.matrix_f32.to_cols_array().map(f32::to_bits));
+                prop_assert_eq!(x.texel_size.map(f64::to_bits), y.texel_size.map(f64::to_bits));
+                prop_assert_eq!(x.body().vertices(), y.body().vertices());
+            }
+        }
+    }
+
     /// Caster culling never drops a box that meets the region that can
     /// shadow the map (H swept toward the light / hull(H ∪ l)).
     #[test]
