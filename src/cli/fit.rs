@@ -125,7 +125,7 @@ pub fn run(input: impl BufRead, mut out: impl Write, settings: &FocusSettings) -
 
 /// `--bench`: per-case median time of a whole fit (bodies included); and,
 /// over the cases whose camera a view can be prepared for, the time of
-/// preparing it ([`PreparedView::new`]) and of one light's fit from it
+/// preparing it in place ([`PreparedView::prepare`]) and of one light's fit from it
 /// ([`fit_prepared`]): the cost per light when a camera serves several.
 pub fn bench(input: impl BufRead, settings: &FocusSettings) -> std::io::Result<Value> {
     let mut cases = Vec::new();
@@ -146,9 +146,9 @@ pub fn bench(input: impl BufRead, settings: &FocusSettings) -> std::io::Result<V
         .collect();
     let (mut prepare_ns, mut prepared_ns) = (Vec::new(), Vec::new());
     for (c, cam) in &cases {
-        let Ok(view) = PreparedView::new(cam, settings) else { continue };
+        let Ok(mut view) = PreparedView::new(cam, settings) else { continue };
         prepare_ns.push(case_median_ns(|| {
-            let _ = black_box(PreparedView::new(black_box(cam), settings));
+            let _ = black_box(view.prepare(black_box(cam), settings));
         }));
         prepared_ns.push(case_median_ns(|| {
             let _ = fit_prepared(black_box(&view), &c.light, &c.scene, &mut result);

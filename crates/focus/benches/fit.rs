@@ -3,7 +3,7 @@
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use glam::DVec3;
-use shadowfocus_focus::{cull_casters, fit, fit_map, CasterRegion, FocusResult, FocusSettings, Method, PointMode, SplitScheme, SplitSettings};
+use shadowfocus_focus::{cull_casters, fit, fit_map, fit_prepared, CasterRegion, FocusResult, FocusSettings, Method, PointMode, PreparedView, SplitScheme, SplitSettings};
 use shadowfocus_geom::{focus_body, Aabb, Camera, Frustum, Light};
 
 fn camera() -> Camera {
@@ -45,6 +45,22 @@ fn bench(c: &mut Criterion) {
                     b.iter(|| fit(black_box(&cam), black_box(light), black_box(&scene), black_box(&s), &mut out).unwrap())
                 });
             }
+        }
+    }
+    // Per light from a view prepared once (its split frusta validated), and
+    // the preparation itself.
+    for splits in [1, 4] {
+        let s = FocusSettings {
+            method: Method::Lispsm,
+            splits: SplitSettings { count: splits, scheme: SplitScheme::Practical { lambda: 0.5 }, delta_bias: 0.0 },
+            ..FocusSettings::default()
+        };
+        let mut view = PreparedView::new(&cam, &s).unwrap();
+        c.bench_function(&format!("prepare_view/lispsm/{splits}"), |b| b.iter(|| view.prepare(black_box(&cam), black_box(&s)).unwrap()));
+        for (lname, light) in &lights[..2] {
+            c.bench_function(&format!("fit_prepared/{lname}/lispsm/{splits}"), |b| {
+                b.iter(|| fit_prepared(black_box(&view), black_box(light), black_box(&scene), &mut out).unwrap())
+            });
         }
     }
     // The fitting alone, on a precomputed body.

@@ -61,6 +61,8 @@ pub fn fit(camera: &Camera, light: &Light, scene: &Aabb, settings: &FocusSetting
 /// NOTE: a frustum's exact validation is about a fifth of a one-map fit.
 /// An engine with several shadowed lights, or a camera that did not move
 /// since the last frame, pays it once per view instead of once per light.
+/// The frusta are held inline (about 7 KiB): keep one view and refill it
+/// with [`PreparedView::prepare`] rather than building a new one per frame.
 #[derive(Clone, Debug)]
 pub struct PreparedView {
     settings: FocusSettings,
@@ -71,25 +73,43 @@ pub struct PreparedView {
     splits: usize,
     /// `None` for a split that `delta_bias` left without depth.
     frusta: [Option<Frustum>; MAX_SPLITS],
+    /// Why the last preparation failed: every fit from the view gives it.
+    failed: Option<FocusError>,
 }
 
 impl PreparedView {
-    /// Checks `camera` and `settings` and validates every split's frustum;
-    /// the errors are those [`fit`] gives for the same camera and settings.
+    /// A view of `camera` with `settings` (see [`PreparedView::prepare`]).
     pub fn new(camera: &Camera, settings: &FocusSettings) -> Result<PreparedView, FocusError> {
-        settings.validate()?;
-        let basis = camera.basis()?;
-        let cam = visible_range(camera, settings)?;
-        let mut depths = [0.0; MAX_SPLITS + 1];
-        let splits = split_depths(cam.near, cam.far, &settings.splits, &mut depths);
-        let mut frusta = [None; MAX_SPLITS];
-        for (i, slot) in frusta.iter_mut().enumerate().take(splits) {
-            let (z0, z1) = (depths[i], depths[i + 1]);
-            if z0 < z1 {
-                *slot = Some(Frustum::from_camera_in(&Camera { near: z0, far: z1, ..cam }, &basis)?);
-            }
+        let placeholder = CameraBasis { forward: DVec3::NEG_Z, right: DVec3::X, up: DVec3::Y };
+        let mut view = PreparedView { settings: *settings, camera: *camera, basis: placeholder, depths: [0.0; MAX_SPLITS + 1], splits: 0, frusta: [None; MAX_SPLITS], failed: None };
+        view.prepare(camera, settings)?;
+        Ok(view)
+    }
+
+    /// Checks `camera` and `settings` and validates every split's frustum,
+    /// in place (no allocation); the errors are those [`fit`] gives for the
+    /// same camera and settings. After an error the view holds no
+    /// preparation, and [`fit_prepared`] gives that error again.
+    pub fn prepare(&mut self, camera: &Camera, settings: &FocusSettings) -> Result<(), FocusError> {
+        let prepared = self.fill(camera, settings);
+        self.failed = prepared.as_ref().err().cloned();
+        if self.failed.is_some() {
+            self.splits = 0;
         }
-        Ok(PreparedView { settings: *settings, camera: cam, basis, depths, splits, frusta })
+        prepared
+    }
+
+    fn fill(&mut self, camera: &Camera, settings: &FocusSettings) -> Result<(), FocusError> {
+        settings.validate()?;
+        self.basis = camera.basis()?;
+        self.camera = visible_range(camera, settings)?;
+        self.settings = *settings;
+        self.splits = split_depths(self.camera.near, self.camera.far, &settings.splits, &mut self.depths);
+        for i in 0..self.splits {
+            let (z0, z1) = (self.depths[i], self.depths[i + 1]);
+            self.frusta[i] = if z0 < z1 { Some(Frustum::from_camera_in(&Camera { near: z0, far: z1, ..self.camera }, &self.basis)?) } else { None };
+        }
+        Ok(())
     }
 
     pub fn settings(&self) -> &FocusSettings {
@@ -102,17 +122,25 @@ impl PreparedView {
         &self.camera
     }
 
-    /// Split boundaries as view depths (`split_count() + 1` values).
+    /// Split boundaries as view depths (`split_count() + 1` values; none
+    /// after a failed preparation).
     pub fn split_depths(&self) -> &[f64] {
+        if self.failed.is_some() {
+            return &[];
+        }
         &self.depths[..=self.splits]
     }
 }
 
-/// [`fit`] for a view prepared by [`PreparedView::new`]: the same maps,
-/// bit for bit, as `fit` with that view's camera and settings, without
-/// building and validating the split frusta again (no allocation).
+/// [`fit`] for a view prepared by [`PreparedView::new`] or
+/// [`PreparedView::prepare`]: the same maps, bit for bit, as `fit` with that
+/// view's camera and settings, without building and validating the split
+/// frusta again (no allocation).
 pub fn fit_prepared(view: &PreparedView, light: &Light, scene: &Aabb, out: &mut FocusResult) -> Result<(), FocusError> {
     out.clear();
+    if let Some(e) = &view.failed {
+        return Err(e.clone());
+    }
     let scene = Aabb::new(scene.min, scene.max)?;
     light.validate()?;
     out.set_splits(&view.depths, view.splits);

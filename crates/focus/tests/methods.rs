@@ -248,6 +248,28 @@ fn invalid_input_is_a_typed_error() {
     assert!(out.maps().is_empty());
 }
 
+/// A view whose preparation failed gives that error from every fit, and a
+/// later preparation with valid input serves fits again.
+#[test]
+fn prepared_view_keeps_its_error_until_prepared_again() {
+    let (good, scene, sun) = (camera(), scene(), Light::Directional { direction: DVec3::NEG_Y });
+    let s = FocusSettings { splits: SplitSettings { count: 3, ..Default::default() }, ..Default::default() };
+    let mut view = PreparedView::new(&good, &s).unwrap();
+    let mut out = FocusResult::new();
+    let no_range = FocusSettings { method: Method::Psm, psm: PsmSettings { near: Some(200.0), ..Default::default() }, ..s };
+    let bad_camera = Camera { forward: DVec3::ZERO, ..good };
+    for (cam, settings) in [(&good, &no_range), (&bad_camera, &s)] {
+        let e = view.prepare(cam, settings).unwrap_err();
+        assert_eq!(fit(cam, &sun, &scene, settings, &mut out).unwrap_err(), e);
+        assert_eq!(fit_prepared(&view, &sun, &scene, &mut out).unwrap_err(), e);
+        assert!(out.maps().is_empty() && view.split_depths().is_empty());
+    }
+    view.prepare(&good, &s).unwrap();
+    fit_prepared(&view, &sun, &scene, &mut out).unwrap();
+    assert_eq!((out.maps().len(), view.split_depths().len()), (3, 4));
+    assert!(out.maps().iter().all(|m| m.is_active()));
+}
+
 #[test]
 fn point_light_modes() {
     let cam = camera();

@@ -1,0 +1,91 @@
+//! Arbitrary bytes through the JSON-lines reader and `shadowfocus fit`:
+//! never a panic; one output line per non-blank input line. For every case
+//! that parses, `fit` and `fit_prepared` (from one view, refilled in place
+//! case after case) give the same maps bit for bit or the same error, and
+//! every active map holds its body's vertices in the clip volume.
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+use shadowfocus::cli::case::parse_case;
+use shadowfocus::cli::fit::{case_camera, run};
+use shadowfocus::focus::{fit, fit_prepared, FocusResult, FocusSettings, Method, PointMode, PreparedView, SplitScheme, SplitSettings};
+use std::cell::RefCell;
+
+/// The settings a case is fitted with, chosen by the input's length and the
+/// line's place so that every method, split scheme and point mode is met.
+fn settings(k: usize) -> FocusSettings {
+    let method = [Method::Uniform, Method::Psm, Method::Lispsm, Method::Tsm][k % 4];
+    let count = [1, 3, 4][(k / 4) % 3];
+    let scheme = [SplitScheme::Practical { lambda: 0.5 }, SplitScheme::Log, SplitScheme::Uniform][(k / 12) % 3];
+    let point = if (k / 36) % 2 == 0 { PointMode::Single } else { PointMode::Cube };
+    FocusSettings { method, splits: SplitSettings { count, scheme, delta_bias: 0.0 }, point, stable: k % 5 == 0, ..FocusSettings::default() }
+}
+
+thread_local! {
+    static STATE: RefCell<(FocusResult, FocusResult, Option<PreparedView>)> = RefCell::new((FocusResult::new(), FocusResult::new(), None));
+}
+
+fn compare(k: usize, line: &str) {
+    let Ok(case) = parse_case(line) else { return };
+    let Ok(cam) = case_camera(&case) else { return };
+    let s = settings(k);
+    STATE.with(|st| {
+        let (a, b, view) = &mut *st.borrow_mut();
+        let direct = fit(&cam, &case.light, &case.scene, &s, a);
+        let prepared = match view {
+            Some(v) => v.prepare(&cam, &s).map(|()| v),
+            None => PreparedView::new(&cam, &s).map(|v| view.insert(v)),
+        };
+        let from_view = prepared.and_then(|v| fit_prepared(v, &case.light, &case.scene, b));
+        match (&direct, &from_view) {
+            (Ok(()), Ok(())) => {}
+            (Err(e), Err(f)) => {
+                assert_eq!(e.to_string(), f.to_string(), "different errors");
+                return;
+            }
+            _ => panic!("fit {direct:?} but fit_prepared {from_view:?}"),
+        }
+        assert_eq!(a.split_depths(), b.split_depths());
+        assert_eq!(a.maps().len(), b.maps().len());
+        for (x, y) in a.maps().iter().zip(b.maps()) {
+            assert_eq!(x.state, y.state);
+            assert_eq!(x.matrix.to_cols_array().map(f64::to_bits), y.matrix.to_cols_array().map(f64::to_bits));
+            assert_eq!(x.body().vertices(), y.body().vertices());
+            if !x.is_active() {
+                continue;
+            }
+            for p in x.body().vertices() {
+                let q = x.matrix * p.extend(1.0);
+                assert!(q.w > 0.0 && q.x.abs() <= q.w && q.y.abs() <= q.w && q.z >= 0.0 && q.z <= q.w, "vertex {p} of map {} outside its clip volume: {q}", x.split);
+            }
+        }
+    });
+}
+
+fuzz_target!(|data: &[u8]| {
+    let Ok(text) = std::str::from_utf8(data) else {
+        // Not UTF-8: the reader may stop with an I/O error, but not panic.
+        let _ = run(std::io::Cursor::new(data), &mut Vec::new(), &FocusSettings::default());
+        return;
+    };
+    for (i, line) in text.lines().enumerate() {
+        compare(data.len() + i, line);
+    }
+    let mut out = Vec::new();
+    let failed = run(std::io::Cursor::new(data), &mut out, &settings(data.len())).expect("UTF-8 input reads without I/O errors");
+    let expected = text.lines().filter(|l| !l.trim().is_empty()).count();
+    let out = String::from_utf8(out).expect("output is UTF-8");
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), expected, "one result per case line");
+    let mut errors = 0;
+    for l in &lines {
+        let v: serde_json::Value = serde_json::from_str(l).expect("each result is JSON");
+        assert!(v.get("id").is_some(), "result without id: {l}");
+        if v.get("error").is_some() {
+            errors += 1;
+        } else {
+            assert!(v["maps"].as_array().is_some_and(|m| !m.is_empty()), "result without maps: {l}");
+        }
+    }
+    assert_eq!(errors, failed, "the failure count matches the error lines");
+});
