@@ -9,6 +9,7 @@ use libfuzzer_sys::fuzz_target;
 use shadowfocus::cli::case::parse_case;
 use shadowfocus::cli::fit::{case_camera, run};
 use shadowfocus::focus::{fit, fit_prepared, FocusResult, FocusSettings, Method, PointMode, PreparedView, SplitScheme, SplitSettings};
+use shadowfocus_fuzz::check_result_lines;
 use std::cell::RefCell;
 
 /// The settings a case is fitted with, chosen by the input's length and the
@@ -73,19 +74,7 @@ fuzz_target!(|data: &[u8]| {
     }
     let mut out = Vec::new();
     let failed = run(std::io::Cursor::new(data), &mut out, &settings(data.len())).expect("UTF-8 input reads without I/O errors");
-    let expected = text.lines().filter(|l| !l.trim().is_empty()).count();
-    let out = String::from_utf8(out).expect("output is UTF-8");
-    let lines: Vec<&str> = out.lines().collect();
-    assert_eq!(lines.len(), expected, "one result per case line");
-    let mut errors = 0;
-    for l in &lines {
-        let v: serde_json::Value = serde_json::from_str(l).expect("each result is JSON");
-        assert!(v.get("id").is_some(), "result without id: {l}");
-        if v.get("error").is_some() {
-            errors += 1;
-        } else {
-            assert!(v["maps"].as_array().is_some_and(|m| !m.is_empty()), "result without maps: {l}");
-        }
-    }
-    assert_eq!(errors, failed, "the failure count matches the error lines");
+    check_result_lines(text, out, failed, |v, l| {
+        assert!(v["maps"].as_array().is_some_and(|m| !m.is_empty()), "result without maps: {l}");
+    });
 });

@@ -6,6 +6,7 @@
 use libfuzzer_sys::fuzz_target;
 use shadowfocus::cli::body::run;
 use shadowfocus::cli::case::parse_case;
+use shadowfocus_fuzz::check_result_lines;
 
 fuzz_target!(|data: &[u8]| {
     let text = std::str::from_utf8(data).ok();
@@ -21,20 +22,8 @@ fuzz_target!(|data: &[u8]| {
         return;
     };
     let failed = result.expect("UTF-8 input reads without I/O errors");
-    let expected = text.lines().filter(|l| !l.trim().is_empty()).count();
-    let out = String::from_utf8(out).expect("output is UTF-8");
-    let lines: Vec<&str> = out.lines().collect();
-    assert_eq!(lines.len(), expected, "one result per case line");
-    let mut errors = 0;
-    for l in &lines {
-        let v: serde_json::Value = serde_json::from_str(l).expect("each result is JSON");
-        assert!(v.get("id").is_some(), "result without id: {l}");
-        if v.get("error").is_some() {
-            errors += 1;
-        } else {
-            let dim = v["dimension"].as_i64().expect("dimension");
-            assert!((-1..=3).contains(&dim));
-        }
-    }
-    assert_eq!(errors, failed, "the failure count matches the error lines");
+    check_result_lines(text, out, failed, |v, _| {
+        let dim = v["dimension"].as_i64().expect("dimension");
+        assert!((-1..=3).contains(&dim));
+    });
 });

@@ -225,3 +225,25 @@ impl PlaneIn {
 pub fn magnitude(points: &[DVec3]) -> f64 {
     points.iter().filter(|p| p.is_finite()).map(|p| p.abs().max_element()).fold(0.0, f64::max)
 }
+
+/// What the JSON-lines targets check of a command's output for UTF-8
+/// `input`: one JSON result with an `id` per non-blank input line, `check`
+/// on every result that is not an error, and as many error lines as the
+/// command reported failures.
+pub fn check_result_lines(input: &str, output: Vec<u8>, failed: usize, check: impl Fn(&serde_json::Value, &str)) {
+    let expected = input.lines().filter(|l| !l.trim().is_empty()).count();
+    let out = String::from_utf8(output).expect("output is UTF-8");
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), expected, "one result per case line");
+    let mut errors = 0;
+    for l in &lines {
+        let v: serde_json::Value = serde_json::from_str(l).expect("each result is JSON");
+        assert!(v.get("id").is_some(), "result without id: {l}");
+        if v.get("error").is_some() {
+            errors += 1;
+        } else {
+            check(&v, l);
+        }
+    }
+    assert_eq!(errors, failed, "the failure count matches the error lines");
+}
