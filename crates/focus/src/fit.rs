@@ -122,8 +122,8 @@ impl PreparedView {
         &self.camera
     }
 
-    /// Split boundaries as view depths (`split_count() + 1` values; none
-    /// after a failed preparation).
+    /// Split boundaries as view depths, one more than there are splits
+    /// (none after a failed preparation).
     pub fn split_depths(&self) -> &[f64] {
         if self.failed.is_some() {
             return &[];
