@@ -136,6 +136,28 @@ impl PreparedView {
 /// [`PreparedView::prepare`]: the same maps, bit for bit, as `fit` with that
 /// view's camera and settings, without building and validating the split
 /// frusta again (no allocation).
+///
+/// ```
+/// use glam::DVec3;
+/// use shadowfocus_focus::{fit_prepared, FocusResult, FocusSettings, PreparedView};
+/// use shadowfocus_geom::{Aabb, Camera, Light};
+///
+/// let camera = Camera { eye: DVec3::new(0.0, 2.0, 10.0), forward: DVec3::NEG_Z, up: DVec3::Y, fovy: 1.0, aspect: 1.5, near: 0.5, far: 100.0 };
+/// let scene = Aabb::new(DVec3::new(-50.0, 0.0, -100.0), DVec3::new(50.0, 20.0, 20.0))?;
+/// let lights = [Light::directional(DVec3::new(0.3, -1.0, 0.2))?, Light::point(DVec3::new(10.0, 15.0, -20.0))?];
+/// let settings = FocusSettings::default();
+///
+/// // Once: a view and one result per light.
+/// let mut view = PreparedView::new(&camera, &settings)?;
+/// let mut results = [FocusResult::new(), FocusResult::new()];
+/// // Every frame: the camera's work once, then each light.
+/// view.prepare(&camera, &settings)?;
+/// for (light, out) in lights.iter().zip(&mut results) {
+///     fit_prepared(&view, light, &scene, out)?;
+/// }
+/// assert!(results.iter().all(|r| r.maps().iter().any(|m| m.is_active())));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn fit_prepared(view: &PreparedView, light: &Light, scene: &Aabb, out: &mut FocusResult) -> Result<(), FocusError> {
     out.clear();
     if let Some(e) = &view.failed {
