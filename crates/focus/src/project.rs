@@ -273,10 +273,17 @@ pub(crate) fn crop(m: &DMat4, pts: &[DVec3], origin: DVec3) -> Option<Cropped> {
         f32_exact &= use32;
         let ew = if use32 { ew32 } else { e(3, false) };
         let q = DVec3::new(centred[0].dot(pw), centred[1].dot(pw), centred[2].dot(pw));
+        // W's sign must be certain at every point: where its rounding bound
+        // reaches W itself (a point all but on the plane w = 0 of a matrix
+        // with much larger entries), no crop can promise to hold it.
+        let certain_w = wv - ew;
+        if !(certain_w > 0.0) {
+            return None;
+        }
         // NOTE: multiplying by a rounded reciprocal adds one rounding (2u₆₄
         // in all, against u₆₄ for a quotient), far inside the 4u₃₂ margin
         // applied below.
-        let inv = 1.0 / (wv - ew);
+        let inv = 1.0 / certain_w;
         let err = DVec3::new(e(0, use32), e(1, use32), e(2, use32));
         half = half.max((q.abs() + err) * inv);
     }

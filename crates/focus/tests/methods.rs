@@ -270,6 +270,33 @@ fn prepared_view_keeps_its_error_until_prepared_again() {
     assert!(out.maps().iter().all(|m| m.is_active()));
 }
 
+/// Found by the `fit_case` fuzz target: a point light at the eye of a
+/// camera with an absurdly wide aspect (1.3e80). PSM's composed matrix then
+/// has a body vertex 2 units from the light at W ≈ 3e-11, below W's own
+/// rounding bound, and the crop used to let it fall outside the map. Such a
+/// map is now refused (PSM falls back to a uniform map), and every map holds
+/// its body.
+#[test]
+fn maps_hold_bodies_where_w_is_below_its_rounding_bound() {
+    let cam = Camera { eye: DVec3::new(100000.0, 2.0, 10.0), forward: DVec3::X, up: DVec3::Z, fovy: std::f64::consts::FRAC_PI_2, aspect: 1.3333333333333334e80, near: 0.02, far: 10000.0 };
+    let scene = Aabb::new(DVec3::new(99000.0, -103.0, -100.0), DVec3::new(101000.0, 100.0, 100.0)).unwrap();
+    let light = Light::point(cam.eye).unwrap();
+    let mut out = FocusResult::new();
+    for method in [Method::Uniform, Method::Psm, Method::Lispsm, Method::Tsm] {
+        for count in [1, 3, 4] {
+            for point in [PointMode::Single, PointMode::Cube] {
+                let s = FocusSettings { method, point, splits: SplitSettings { count, ..Default::default() }, ..Default::default() };
+                fit(&cam, &light, &scene, &s, &mut out).unwrap();
+                for m in out.maps().iter().filter(|m| m.is_active()) {
+                    for p in m.body().vertices() {
+                        assert!(inside_f64(&m.matrix, *p), "{method:?} {count} {point:?}: split {} face {:?} loses {p}", m.split, m.face);
+                    }
+                }
+            }
+        }
+    }
+}
+
 #[test]
 fn point_light_modes() {
     let cam = camera();
