@@ -196,7 +196,8 @@ pub(crate) struct Cropped {
 }
 
 /// Crops `m` (with `w > 0` at every point) to the clip volume:
-/// `−w ≤ x, y ≤ w`, `0 ≤ z ≤ w`. Returns `None` if some point has `w ≤ 0`.
+/// `−w ≤ x, y ≤ w`, `0 ≤ z ≤ w`. Returns `None` if some point's `w` is not
+/// certainly positive (`w ≤ 0`, or within its rounding bound of 0).
 ///
 /// The crop maps the fitted image range `[c − h, c + h]` of each coordinate
 /// to the clip range, and `h` is chosen so that rounding cannot push a point
