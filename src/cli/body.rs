@@ -170,14 +170,13 @@ pub fn bench(input: impl BufRead) -> std::io::Result<Value> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::cli::bench_test::{assert_times, smoke_lines};
 
     /// The bench times every valid case, and compares against parry's hull
     /// exactly the point and spot cases.
     #[test]
     fn bench_counts_cases_and_compares_finite_lights_with_parry() {
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/cases/smoke.jsonl");
-        let text = std::fs::read_to_string(path).unwrap();
-        let lines: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).take(12).collect();
+        let lines = smoke_lines(12);
         let finite = lines.iter().filter(|l| !l.contains("\"directional\"")).count();
         assert!(finite > 0 && finite < lines.len(), "{finite} of {}", lines.len());
         let input = format!("{}\nnot json\n", lines.join("\n"));
@@ -185,10 +184,7 @@ mod tests {
         assert_eq!(r["cases"], lines.len());
         assert_eq!(r["invalid_lines_skipped"], 1);
         assert_eq!(r["finite_light_cases"], finite);
-        for key in ["median_ns", "finite_light_median_ns", "parry_hull_of_9_points_median_ns", "with_frustum_validation_median_ns"] {
-            let t = r[key].as_f64().unwrap();
-            assert!(t > 0.0 && t.is_finite(), "{key}: {t}");
-        }
+        assert_times(&r, &["median_ns", "finite_light_median_ns", "parry_hull_of_9_points_median_ns", "with_frustum_validation_median_ns"]);
     }
 
     /// The spot fixtures mix both kinds: a few coincidences go to the exact

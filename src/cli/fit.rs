@@ -227,25 +227,21 @@ pub fn phases(input: impl BufRead, settings: &FocusSettings) -> std::io::Result<
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::cli::bench_test::{assert_times, smoke_lines};
 
     /// `--bench` times every readable case whole and, for each camera a view
     /// can be prepared for, the preparation and the fit from it; a line that
     /// is not JSON is left out of both.
     #[test]
     fn bench_times_whole_and_prepared_fits() {
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/cases/smoke.jsonl");
-        let text = std::fs::read_to_string(path).unwrap();
-        let lines: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).take(5).collect();
+        let lines = smoke_lines(5);
         let input = format!("{}\nnot json\n", lines.join("\n"));
         let settings = FocusSettings { splits: SplitSettings { count: 2, ..Default::default() }, ..Default::default() };
         let r = bench(input.as_bytes(), &settings).unwrap();
         assert_eq!(r["cases"].as_u64(), Some(lines.len() as u64));
         assert_eq!(r["prepared_view_cases"].as_u64(), Some(lines.len() as u64));
         assert_eq!(r["splits"].as_u64(), Some(2));
-        for key in ["median_ns", "p99_ns", "prepare_view_median_ns", "fit_prepared_median_ns", "fit_prepared_p99_ns"] {
-            let t = r[key].as_f64().unwrap();
-            assert!(t > 0.0 && t.is_finite(), "{key}: {t}");
-        }
+        assert_times(&r, &["median_ns", "p99_ns", "prepare_view_median_ns", "fit_prepared_median_ns", "fit_prepared_p99_ns"]);
     }
 
     /// Every readable case is either timed in all four phases or counted
@@ -253,9 +249,7 @@ mod tests {
     /// with six cube faces.
     #[test]
     fn phases_time_one_map_cases_and_count_the_rest() {
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/cases/smoke.jsonl");
-        let text = std::fs::read_to_string(path).unwrap();
-        let lines: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).take(8).collect();
+        let lines = smoke_lines(8);
         let inside = r#"{"id": "light-in-view", "view": {"eye": [0, 2, 10], "forward": [0, 0, -1], "up": [0, 1, 0], "fovy_deg": 60, "aspect": 1.5, "near": 0.5, "far": 50}, "light": {"point": [0, 2, 0]}, "scene": {"min": [-20, 0, -40], "max": [20, 8, 5]}}"#;
         let input = format!("{}\n{inside}\nnot json\n", lines.join("\n"));
         let settings = FocusSettings::default();
@@ -269,9 +263,6 @@ mod tests {
         assert_eq!(count("cases") + count("cases_not_timed") + count("lines_skipped"), lines.len() as u64 + 2);
         assert!(count("cases_not_timed") >= 1 && count("lines_skipped") >= 1);
         assert!(count("cases") >= 1);
-        for key in ["frustum_median_ns", "body_median_ns", "fit_map_median_ns", "whole_fit_median_ns"] {
-            let t = r[key].as_f64().unwrap();
-            assert!(t > 0.0 && t.is_finite(), "{key}: {t}");
-        }
+        assert_times(&r, &["frustum_median_ns", "body_median_ns", "fit_map_median_ns", "whole_fit_median_ns"]);
     }
 }
