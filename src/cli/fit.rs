@@ -83,6 +83,8 @@ fn result_json(case: &Case, settings: &FocusSettings, r: &FocusResult) -> Value 
                 "matrix": m.matrix.to_cols_array(),
                 "depth_test": m.depth_test.name(),
                 "texel_size": m.texel_size.map(|t| if t.is_finite() { Value::from(t) } else { Value::Null }),
+                "utilisation": m.utilisation,
+                "light_near": m.light_near,
                 "body": {"dimension": body.dimension().as_i32(), "vertices": vertices},
             })
         })

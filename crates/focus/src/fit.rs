@@ -4,7 +4,7 @@ use crate::cone::turn_into_cone;
 use crate::error::FocusError;
 use crate::frame::{perpendicular_hint, tangent_frame};
 use crate::methods::{fit_body, light_point, Fitted, SplitView};
-use crate::project::texel_size;
+use crate::project::{texel_size, utilisation};
 use crate::result::{CubeFace, DepthTest, FocusResult, MapState, Notes, ShadowMap, Skipped};
 use crate::settings::{FocusSettings, Method, PointMode};
 use crate::splits::split_depths;
@@ -234,6 +234,10 @@ fn begin(map: &mut ShadowMap, sv: &SplitView, split: usize, face: Option<CubeFac
     map.psm_shift = 0.0;
     map.warp_near = f64::INFINITY;
     map.method = sv.settings.method;
+    map.light_near = match light {
+        Light::Directional { .. } => 0.0,
+        _ => sv.settings.light_near,
+    };
     map.flags = 0;
 }
 
@@ -272,6 +276,7 @@ fn store(map: &mut ShadowMap, sv: &SplitView, f: &Fitted) {
     map.warp_near = r.warp_near;
     map.psm_shift = r.psm_shift;
     map.f32_exact = r.f32_exact;
+    map.utilisation = utilisation(&r.matrix, map.body.vertices());
     map.flags = (f.warp_vanished as u8) | (f.psm_fell_back as u8) << 1 | (f.stable_ignored as u8) << 2;
 }
 

@@ -105,6 +105,12 @@ pub struct ShadowMap {
     pub warp_near: f64,
     /// PSM's virtual camera shift along −forward (0 when none was needed).
     pub psm_shift: f64,
+    /// Fraction of the map's area `[−1, 1]²` that the projection of its
+    /// body covers (0 for an empty map): how many texels the fit uses.
+    pub utilisation: f64,
+    /// For point and spot lights, the distance `r` from the light within
+    /// which casters may be left out of this map; 0 for directional lights.
+    pub light_near: f64,
     /// The light this map projects from (a cube face's 90° spot for
     /// omnidirectional lights).
     pub light: Light,
@@ -131,6 +137,8 @@ impl ShadowMap {
             method: Method::Uniform,
             warp_near: f64::INFINITY,
             psm_shift: 0.0,
+            utilisation: 0.0,
+            light_near: 0.0,
             light: Light::Directional { direction: glam::DVec3::NEG_Y },
             body: Body::new(),
             body_valid: false,
@@ -157,6 +165,7 @@ impl ShadowMap {
         self.texel_size = [f64::INFINITY; 2];
         self.warp_near = f64::INFINITY;
         self.psm_shift = 0.0;
+        self.utilisation = 0.0;
     }
 
     pub fn is_active(&self) -> bool {
