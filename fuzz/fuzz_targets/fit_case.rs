@@ -1,14 +1,15 @@
 //! Arbitrary bytes through the JSON-lines reader and `shadowfocus fit`:
 //! never a panic; one output line per non-blank input line. For every case
-//! that parses, `fit` and `fit_prepared` (from one view, refilled in place
-//! case after case) give the same maps bit for bit or the same error, and
+//! that parses, `fit_case` (`fit`, or `fit_frustum` for corner input) and
+//! `fit_prepared` (from one view, refilled in place case after case by
+//! `prepare_case`) give the same maps bit for bit or the same error, and
 //! every active map holds its body's vertices in the clip volume.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
 use shadowfocus::cli::case::parse_case;
-use shadowfocus::cli::fit::{case_camera, run};
-use shadowfocus::focus::{fit, fit_prepared, FocusResult, FocusSettings, Method, PointMode, PreparedView, SplitScheme, SplitSettings};
+use shadowfocus::cli::fit::{case_camera, fit_case, prepare_case, run};
+use shadowfocus::focus::{fit_prepared, FocusResult, FocusSettings, Method, PointMode, PreparedView, SplitScheme, SplitSettings};
 use shadowfocus_fuzz::check_result_lines;
 use std::cell::RefCell;
 
@@ -32,16 +33,22 @@ fn compare(k: usize, line: &str) {
     let s = settings(k);
     STATE.with(|st| {
         let (a, b, view) = &mut *st.borrow_mut();
-        let direct = fit(&cam, &case.light, &case.scene, &s, a);
-        let prepared = match view {
-            Some(v) => v.prepare(&cam, &s).map(|()| v),
-            None => PreparedView::new(&cam, &s).map(|v| view.insert(v)),
+        let direct = fit_case(&case, &s, a);
+        let v = match view {
+            Some(v) => v,
+            None => match PreparedView::new(&cam, &s) {
+                Ok(v) => view.insert(v),
+                Err(e) => {
+                    assert!(direct.is_err(), "fit {direct:?} but no view: {e}");
+                    return;
+                }
+            },
         };
-        let from_view = prepared.and_then(|v| fit_prepared(v, &case.light, &case.scene, b));
+        let from_view = prepare_case(v, &case, &cam, &s).and_then(|()| fit_prepared(v, &case.light, &case.scene, b).map_err(|e| e.to_string()));
         match (&direct, &from_view) {
             (Ok(()), Ok(())) => {}
             (Err(e), Err(f)) => {
-                assert_eq!(e.to_string(), f.to_string(), "different errors");
+                assert_eq!(e, f, "different errors");
                 return;
             }
             _ => panic!("fit {direct:?} but fit_prepared {from_view:?}"),

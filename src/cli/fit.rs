@@ -3,7 +3,7 @@
 use super::body::{case_median_ns, median, p99};
 use super::case::{case_lines, parse_case, Case};
 use serde_json::{json, Value};
-use shadowfocus_focus::{camera_from_corners, fit, fit_map, fit_prepared, FocusResult, FocusSettings, Method, PreparedView, SplitScheme, SplitSettings};
+use shadowfocus_focus::{camera_from_corners, fit, fit_frustum, fit_map, fit_prepared, FocusResult, FocusSettings, Method, PreparedView, SplitScheme, SplitSettings};
 use shadowfocus_geom::{focus_body_into, Body, Camera, Frustum};
 use std::hint::black_box;
 use std::io::{BufRead, Write};
@@ -69,6 +69,29 @@ pub fn case_camera(case: &Case) -> Result<Camera, String> {
     }
 }
 
+/// Fits a case as `shadowfocus fit` does: a case given by a camera with
+/// [`fit`]; a case given by its eight corners with [`fit_frustum`], so that
+/// every body comes from exactly those corners (the recovered camera only
+/// chooses the parameterisation and the split depths).
+pub fn fit_case(case: &Case, settings: &FocusSettings, out: &mut FocusResult) -> Result<(), String> {
+    let cam = case_camera(case)?;
+    let r = match case.camera {
+        Some(_) => fit(&cam, &case.light, &case.scene, settings, out),
+        None => fit_frustum(&case.view, &cam, &case.light, &case.scene, settings, out),
+    };
+    r.map_err(|e| e.to_string())
+}
+
+/// [`PreparedView::prepare`] (camera cases) or
+/// [`PreparedView::prepare_frustum`] (corner cases), as [`fit_case`] fits.
+pub fn prepare_case(view: &mut PreparedView, case: &Case, cam: &Camera, settings: &FocusSettings) -> Result<(), String> {
+    let r = match case.camera {
+        Some(_) => view.prepare(cam, settings),
+        None => view.prepare_frustum(&case.view, cam, settings),
+    };
+    r.map_err(|e| e.to_string())
+}
+
 fn result_json(case: &Case, settings: &FocusSettings, r: &FocusResult) -> Value {
     let maps: Vec<Value> = r
         .maps()
@@ -83,7 +106,7 @@ fn result_json(case: &Case, settings: &FocusSettings, r: &FocusResult) -> Value 
                 "matrix": m.matrix.to_cols_array(),
                 "depth_test": m.depth_test.name(),
                 "texel_size": m.texel_size.map(|t| if t.is_finite() { Value::from(t) } else { Value::Null }),
-                "utilisation": m.utilisation,
+                "utilisation": m.utilisation(),
                 "light_near": m.light_near,
                 "body": {"dimension": body.dimension().as_i32(), "vertices": vertices},
             })
@@ -106,9 +129,7 @@ pub fn run(input: impl BufRead, mut out: impl Write, settings: &FocusSettings) -
     for line in case_lines(input) {
         let line = line?;
         let value = match parse_case(&line) {
-            Ok(case) => match case_camera(&case)
-                .and_then(|cam| fit(&cam, &case.light, &case.scene, settings, &mut result).map_err(|e| e.to_string()))
-            {
+            Ok(case) => match fit_case(&case, settings, &mut result) {
                 Ok(()) => result_json(&case, settings, &result),
                 Err(e) => {
                     failed += 1;
@@ -142,15 +163,18 @@ pub fn bench(input: impl BufRead, settings: &FocusSettings) -> std::io::Result<V
     let mut result = FocusResult::new();
     let mut ns: Vec<f64> = cases
         .iter()
-        .map(|(c, cam)| case_median_ns(|| {
-            let _ = fit(cam, &c.light, &c.scene, settings, &mut result);
+        .map(|(c, _)| case_median_ns(|| {
+            let _ = fit_case(c, settings, &mut result);
         }))
         .collect();
     let (mut prepare_ns, mut prepared_ns) = (Vec::new(), Vec::new());
     for (c, cam) in &cases {
         let Ok(mut view) = PreparedView::new(cam, settings) else { continue };
+        if prepare_case(&mut view, c, cam, settings).is_err() {
+            continue;
+        }
         prepare_ns.push(case_median_ns(|| {
-            let _ = black_box(view.prepare(black_box(cam), settings));
+            let _ = black_box(prepare_case(&mut view, black_box(c), cam, settings));
         }));
         prepared_ns.push(case_median_ns(|| {
             let _ = fit_prepared(black_box(&view), &c.light, &c.scene, &mut result);

@@ -4,7 +4,7 @@ use crate::cone::turn_into_cone;
 use crate::error::FocusError;
 use crate::frame::{perpendicular_hint, tangent_frame};
 use crate::methods::{fit_body, light_point, Fitted, SplitView};
-use crate::project::{texel_size, utilisation};
+use crate::project::texel_size;
 use crate::result::{CubeFace, DepthTest, FocusResult, MapState, Notes, ShadowMap, Skipped};
 use crate::settings::{FocusSettings, Method, PointMode};
 use crate::splits::split_depths;
@@ -91,7 +91,7 @@ impl PreparedView {
     /// same camera and settings. After an error the view holds no
     /// preparation, and [`fit_prepared`] gives that error again.
     pub fn prepare(&mut self, camera: &Camera, settings: &FocusSettings) -> Result<(), FocusError> {
-        let prepared = self.fill(camera, settings);
+        let prepared = self.fill(camera, settings, None);
         self.failed = prepared.as_ref().err().cloned();
         if self.failed.is_some() {
             self.splits = 0;
@@ -99,15 +99,39 @@ impl PreparedView {
         prepared
     }
 
-    fn fill(&mut self, camera: &Camera, settings: &FocusSettings) -> Result<(), FocusError> {
+    /// [`PreparedView::prepare`] for a view given as a frustum (its eight
+    /// corners) rather than a camera: every body is computed from `view`
+    /// itself, and `camera` — for corners, the one
+    /// [`crate::camera_from_corners`] recovers — only chooses the
+    /// parameterisation and the split depths. With one split (and no PSM
+    /// range tightening) the split's frustum is `view`, exactly; otherwise
+    /// split `i` is the part of `view` between its depths, cut along `view`'s
+    /// own side edges and rounded outward (see [`slice`]), so that every
+    /// point of `view` lies in some split's frustum.
+    pub fn prepare_frustum(&mut self, view: &Frustum, camera: &Camera, settings: &FocusSettings) -> Result<(), FocusError> {
+        let prepared = self.fill(camera, settings, Some(view));
+        self.failed = prepared.as_ref().err().cloned();
+        if self.failed.is_some() {
+            self.splits = 0;
+        }
+        prepared
+    }
+
+    /// Checks the camera and settings and builds every split's frustum:
+    /// from the camera, or cut from `given` (see `prepare_frustum`).
+    fn fill(&mut self, camera: &Camera, settings: &FocusSettings, given: Option<&Frustum>) -> Result<(), FocusError> {
         settings.validate()?;
         self.basis = camera.basis()?;
         self.camera = visible_range(camera, settings)?;
         self.settings = *settings;
         self.splits = split_depths(self.camera.near, self.camera.far, &settings.splits, &mut self.depths);
         for i in 0..self.splits {
-            let (z0, z1) = (self.depths[i], self.depths[i + 1]);
-            self.frusta[i] = if z0 < z1 { Some(Frustum::from_camera_in(&Camera { near: z0, far: z1, ..self.camera }, &self.basis)?) } else { None };
+            let range = [self.depths[i], self.depths[i + 1]];
+            self.frusta[i] = match given {
+                _ if !(range[0] < range[1]) => None,
+                Some(view) => Some(slice(view, &self.camera, &self.basis, range, camera)?),
+                None => Some(Frustum::from_camera_in(&Camera { near: range[0], far: range[1], ..self.camera }, &self.basis)?),
+            };
         }
         Ok(())
     }
@@ -177,6 +201,68 @@ pub fn fit_prepared(view: &PreparedView, light: &Light, scene: &Aabb, out: &mut 
     }
     plan(out, &view.settings, light, &scene);
     Ok(())
+}
+
+/// [`fit`] for a view given as a frustum: the maps of
+/// [`PreparedView::prepare_frustum`] and [`fit_prepared`], whose bodies are
+/// computed from `view` itself (for corner input, pass the camera
+/// [`crate::camera_from_corners`] recovers: it chooses the
+/// parameterisation and the split depths, never the body).
+///
+/// NOTE: the view is built on the stack (about 7 KiB) for each call; an
+/// engine fitting every frame keeps a [`PreparedView`] instead.
+pub fn fit_frustum(view: &Frustum, camera: &Camera, light: &Light, scene: &Aabb, settings: &FocusSettings, out: &mut FocusResult) -> Result<(), FocusError> {
+    out.clear();
+    let placeholder = CameraBasis { forward: DVec3::NEG_Z, right: DVec3::X, up: DVec3::Y };
+    let mut pv = PreparedView { settings: *settings, camera: *camera, basis: placeholder, depths: [0.0; MAX_SPLITS + 1], splits: 0, frusta: [None; MAX_SPLITS], failed: None };
+    pv.prepare_frustum(view, camera, settings)?;
+    fit_prepared(&pv, light, scene, out)
+}
+
+/// Relative outward margin of a split cut from a given frustum (2⁻²⁰): far
+/// above the rounding of the interpolated corners (a few ulps of their
+/// magnitudes) and of the creases of the given side faces.
+const SLICE_MARGIN: f64 = 1.0 / (1u64 << 20) as f64;
+
+/// The part of `view` between the view depths `range` of `camera` (the
+/// fitted camera; `given` is the camera before PSM's tightening, whose near
+/// and far are `view`'s own faces).
+///
+/// Each side edge `c_k → c_{k+4}` is cut at the parameters `t` where its
+/// depth along the camera's forward axis is `range[0]` and `range[1]`:
+/// `t = (z − d_k)/(d_{k+4} − d_k)`, `d` the corners' depths. A depth at or
+/// beyond `given`'s near or far keeps that face's corners exactly; with
+/// both, the slice is `view` itself. Where a cut is interior, the
+/// parameters are widened by `SLICE_MARGIN` on both sides and the eight
+/// corners are moved away from their centroid by a factor `1 + SLICE_MARGIN`
+/// — a homothety, so the result contains the exact slice whatever the
+/// rounding of the interpolated corners and whichever diagonal the given
+/// side faces were creased along.
+fn slice(view: &Frustum, camera: &Camera, basis: &CameraBasis, range: [f64; 2], given: &Camera) -> Result<Frustum, FocusError> {
+    let keep_near = range[0] <= given.near;
+    let keep_far = range[1] >= given.far;
+    if keep_near && keep_far {
+        return Ok(*view);
+    }
+    let c = view.corners();
+    let depth = |p: DVec3| basis.forward.dot(p - camera.eye);
+    let mut out = [DVec3::ZERO; 8];
+    for k in 0..4 {
+        let (a, b) = (c[k], c[k + 4]);
+        let (da, db) = (depth(a), depth(b));
+        let at = |z: f64, bias: f64| {
+            let t = if db > da { (z - da) / (db - da) + bias } else { 0.5 };
+            let t = t.clamp(0.0, 1.0);
+            a + (b - a) * t
+        };
+        out[k] = if keep_near { a } else { at(range[0], -SLICE_MARGIN) };
+        out[k + 4] = if keep_far { b } else { at(range[1], SLICE_MARGIN) };
+    }
+    let centroid = out.iter().copied().sum::<DVec3>() / 8.0;
+    for p in &mut out {
+        *p = centroid + (*p - centroid) * (1.0 + SLICE_MARGIN);
+    }
+    Ok(Frustum::from_corners(out)?)
 }
 
 /// The camera whose depth range is fitted: for PSM, narrowed to the
@@ -276,8 +362,7 @@ fn store(map: &mut ShadowMap, sv: &SplitView, f: &Fitted) {
     map.warp_near = r.warp_near;
     map.psm_shift = r.psm_shift;
     map.f32_exact = r.f32_exact;
-    map.utilisation = utilisation(&r.matrix, map.body.vertices());
-    map.flags = (f.warp_vanished as u8) | (f.psm_fell_back as u8) << 1 | (f.stable_ignored as u8) << 2;
+    map.flags = (f.warp_vanished as u8) | (f.psm_fell_back as u8) << 1 | (f.stable_ignored as u8) << 2 | (f.warp_limited as u8) << 3;
 }
 
 fn map_fit(sv: &SplitView, light: &Light, f: &Fitted) -> MapFit {
@@ -524,6 +609,9 @@ fn plan(out: &mut FocusResult, settings: &FocusSettings, light: &Light, scene: &
         }
         if map.flags & 4 != 0 {
             notes.insert(Notes::STABLE_IGNORED);
+        }
+        if map.flags & 8 != 0 {
+            notes.insert(Notes::WARP_LIMITED);
         }
         if map.depth_test == DepthTest::Greater {
             notes.insert(Notes::INVERTED);

@@ -87,7 +87,9 @@ mod cull;
 mod error;
 mod fit;
 mod frame;
+mod hull2;
 mod methods;
+mod predict;
 mod project;
 mod result;
 mod settings;
@@ -96,10 +98,10 @@ mod splits;
 pub use camera::{camera_from_corners, RecoveredCamera};
 pub use cull::{cull_casters, CasterRegion, MAX_REGION_PLANES};
 pub use error::FocusError;
-pub use fit::{fit, fit_map, fit_prepared, MapFit, PreparedView};
+pub use fit::{fit, fit_frustum, fit_map, fit_prepared, MapFit, PreparedView};
 pub use frame::S0 as ORIENTATION_BLEND_SIN;
 pub use result::{CubeFace, DepthTest, FocusResult, MapState, Notes, ShadowMap, Skipped};
-pub use settings::{FocusSettings, LispsmSettings, Method, PointMode, PsmSettings, SplitScheme, SplitSettings, TsmSettings, WarpDirection};
+pub use settings::{FocusSettings, LispsmSettings, MapOrientation, Method, PointMode, PsmSettings, SplitScheme, SplitSettings, TsmSettings, WarpDirection};
 pub use splits::{clip_depth, split_depths};
 
 /// Most parallel splits.

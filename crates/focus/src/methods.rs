@@ -7,9 +7,11 @@
 //! the body into the clip volume with rounding margins.
 
 use crate::frame::{perpendicular_hint, tangent_frame};
+use crate::hull2::min_area_direction;
+use crate::predict::Samples;
 use crate::project::{apply_warp, central_projection, crop, from_rows, h, Central, Cropped, DepthKind, Warp};
-use crate::settings::{FocusSettings, Method, WarpDirection};
-use glam::{DMat4, DVec3, DVec4};
+use crate::settings::{FocusSettings, MapOrientation, Method, WarpDirection};
+use glam::{DMat4, DVec2, DVec3, DVec4};
 use shadowfocus_geom::{Body, Camera, CameraBasis, Dimension, Light, MAX_VERTICES};
 
 /// The camera of one split and what every method reads from it.
@@ -28,6 +30,9 @@ pub(crate) struct Fitted {
     pub psm_shift: f64,
     /// LiSPSM/TSM ended with no warp.
     pub warp_vanished: bool,
+    /// LiSPSM/TSM: the warp was weakened, or given up for the uniform map,
+    /// because the prediction said it would alias more (see `predict`).
+    pub warp_limited: bool,
     pub psm_fell_back: bool,
     pub stable_ignored: bool,
     /// The f32 matrix keeps the body inside (see `project::crop`).
@@ -43,6 +48,7 @@ impl Fitted {
             warp_near: f64::INFINITY,
             psm_shift: 0.0,
             warp_vanished: false,
+            warp_limited: false,
             psm_fell_back: false,
             stable_ignored: false,
         }
@@ -110,7 +116,53 @@ fn light_space(sv: &SplitView, light: &Light, verts: &[DVec3], v: DVec3) -> Opti
 fn uniform(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted> {
     let verts = body.vertices();
     let c = light_space(sv, light, verts, sv.basis.forward)?;
-    Some(Fitted::plain(crop(&c.m, verts, sv.settings.f32_origin)?, Method::Uniform))
+    uniform_from(&c.m, verts, sv)
+}
+
+/// The uniform map of the central projection `m`: turned to the
+/// least-area rectangle around the body's image, then cropped.
+fn uniform_from(m: &DMat4, verts: &[DVec3], sv: &SplitView) -> Option<Fitted> {
+    let m = orient(m, verts, sv);
+    Some(Fitted::plain(crop(&m, verts, sv.settings.f32_origin)?, Method::Uniform))
+}
+
+/// `m` with its image rows `x`, `y` turned so that image `y` runs along the
+/// unit image direction `dir`: `y' = d_x x + d_y y`, `x' = d_y x − d_x y`.
+/// A rotation (determinant +1): the rows stay combinations of rows through
+/// the light, so they still pass through it, and `z`, `w` are kept.
+fn rotate_image(m: &DMat4, dir: DVec2) -> DMat4 {
+    let (x, y) = (m.row(0), m.row(1));
+    from_rows(x * dir.y - y * dir.x, x * dir.x + y * dir.y, m.row(2), m.row(3))
+}
+
+/// `m` turned as the settings' [`MapOrientation`] asks.
+fn orient(m: &DMat4, verts: &[DVec3], sv: &SplitView) -> DMat4 {
+    match sv.settings.orientation {
+        MapOrientation::LeastArea => orient_min_area(m, verts),
+        MapOrientation::ViewAligned => *m,
+    }
+}
+
+/// `m` turned so that the rectangle of least area around the image of
+/// `verts` is axis-aligned: the square map then fills with the body
+/// [SD02's focusing, with the image orientation free]. Of the four ways to
+/// align it, the one nearest the current orientation (the least turn) is
+/// kept, so the camera-relative orientation of `references` survives where
+/// it is already a least-area one. `m` unchanged where a vertex has no
+/// positive `w` (the crop refuses such a map anyway) or the image is a point.
+fn orient_min_area(m: &DMat4, verts: &[DVec3]) -> DMat4 {
+    let mut q = [DVec2::ZERO; MAX_VERTICES];
+    for (o, p) in q.iter_mut().zip(verts) {
+        let c = *m * h(*p);
+        if !(c.w > 0.0) {
+            return *m;
+        }
+        *o = DVec2::new(c.x / c.w, c.y / c.w);
+    }
+    let Some(e) = min_area_direction(&mut q[..verts.len()]) else { return *m };
+    let perp = DVec2::new(-e.y, e.x);
+    let dir = [e, -e, perp, -perp].into_iter().fold(e, |best, d| if d.y > best.y { d } else { best });
+    rotate_image(m, dir)
 }
 
 /// Image coordinates `(ξ, η)` and `w` of a world point under `m`.
@@ -183,7 +235,22 @@ fn warped(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted> {
         _ => f,
     };
     let c = light_space(sv, light, verts, v)?;
-    let m = c.m;
+    let lp = light_point(light);
+    let zn = cam.near;
+    let p_near = cam.eye + f * zn;
+    // A reference point the light map sees: the near-plane centre, else the
+    // body's centre (a point light beside the eye can have w ≤ 0 there).
+    let p_ref = if image(&c.m, p_near).2 > 0.0 { p_near } else { c.centre };
+    // The warp runs along the image of the view direction [LISPSM]: image
+    // `y` is turned onto it. Where the view direction is (nearly) parallel
+    // to the light it has no image direction and the warp no effect.
+    let aligned = match s.orientation {
+        MapOrientation::LeastArea => align_to(&c.m, p_ref, v),
+        MapOrientation::ViewAligned => Some(c.m),
+    };
+    let Some(m) = aligned else {
+        return uniform_from(&c.m, verts, sv).map(|u| Fitted { method: s.method, warp_vanished: true, ..u });
+    };
     let (mut eta0, mut eta1) = (f64::INFINITY, f64::NEG_INFINITY);
     let (mut xi0, mut xi1) = (f64::INFINITY, f64::NEG_INFINITY);
     for p in verts {
@@ -193,12 +260,6 @@ fn warped(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted> {
         xi0 = xi0.min(xi);
         xi1 = xi1.max(xi);
     }
-    let zn = cam.near;
-    let p_near = cam.eye + f * zn;
-    // A reference point the light map sees: the near-plane centre, else the
-    // body's centre (a point light beside the eye can have w ≤ 0 there).
-    let p_ref = if image(&m, p_near).2 > 0.0 { p_near } else { c.centre };
-    let lp = light_point(light);
 
     let (epsilon, xi_c) = match s.method {
         Method::Lispsm => {
@@ -250,15 +311,73 @@ fn warped(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted> {
         }
     };
     let epsilon = if epsilon.is_finite() && epsilon > 0.0 { epsilon } else { 0.0 };
-    let warped = apply_warp(&m, &Warp { epsilon, xi_c, eta0 });
-    let (mm, epsilon) = match crop(&warped, verts, s.f32_origin) {
-        Some(mm) => (mm, epsilon),
-        None => (crop(&m, verts, s.f32_origin)?, 0.0),
-    };
-    let mut out = Fitted::plain(mm, s.method);
-    out.warp_near = if epsilon > 0.0 { 1.0 / epsilon } else { f64::INFINITY };
-    out.warp_vanished = epsilon == 0.0;
-    Some(out)
+    choose_warp(sv, light, body, &c.m, &m, Warp { epsilon, xi_c, eta0 })
+}
+
+/// The warp of `m` by `w`, or a weaker one, or the uniform map of the
+/// central projection `central`: whichever is strongest among those whose
+/// predicted aliasing ([`Samples`]) is no worse than the uniform map's in
+/// both the worst and the mean sample. Warps never lose to the uniform map
+/// by construction; the weakening steps (ε, ε/2, ε/4, then none) keep the
+/// choice close to continuous where the prediction crosses over.
+fn choose_warp(sv: &SplitView, light: &Light, body: &Body, central: &DMat4, m: &DMat4, w: Warp) -> Option<Fitted> {
+    let s = sv.settings;
+    let verts = body.vertices();
+    let reference = uniform_from(central, verts, sv)?;
+    let mut best = Fitted { method: s.method, warp_vanished: true, ..reference };
+    if w.epsilon == 0.0 && s.orientation == MapOrientation::LeastArea {
+        return Some(best);
+    }
+    if !s.warp_guard || w.epsilon == 0.0 {
+        // The warp as designed (ε = 0: the unwarped map in the warp's frame).
+        let cropped = match crop(&apply_warp(m, &w), verts, s.f32_origin) {
+            Some(c) => c,
+            None if w.epsilon > 0.0 => return Some(best),
+            None => return None,
+        };
+        let mut out = Fitted::plain(cropped, s.method);
+        out.warp_near = if w.epsilon > 0.0 { 1.0 / w.epsilon } else { f64::INFINITY };
+        out.warp_vanished = w.epsilon == 0.0;
+        return Some(out);
+    }
+    let lp = light_point(light);
+    let mut samples = Samples::new(sv, body);
+    let target = samples.judge(&reference.m, lp);
+    for k in 0..3 {
+        let epsilon = w.epsilon * 0.5f64.powi(k);
+        let Some(cropped) = crop(&apply_warp(m, &Warp { epsilon, ..w }), verts, s.f32_origin) else { continue };
+        let better = match (&target, samples.predict(&cropped.m, lp)) {
+            (Some(t), Some(p)) => p.no_worse_than(t),
+            // No sample to judge by (the split sees nothing of the body's
+            // box): the warp as designed.
+            (None, _) => true,
+            (Some(_), None) => false,
+        };
+        if better {
+            let mut out = Fitted::plain(cropped, s.method);
+            out.warp_near = 1.0 / epsilon;
+            out.warp_limited = k > 0;
+            return Some(out);
+        }
+    }
+    best.warp_limited = true;
+    Some(best)
+}
+
+/// `m` turned so that image `y` follows the image of the direction `v` at
+/// `p`; `None` where that image is shorter than 2⁻²⁶ of the image scale
+/// (v all but parallel to the light ray at `p`).
+fn align_to(m: &DMat4, p: DVec3, v: DVec3) -> Option<DMat4> {
+    let q = *m * h(p);
+    let dv = *m * v.extend(0.0);
+    // d(x/w, y/w) along v: (ẋ w − x ẇ)/w², likewise for y.
+    let d = DVec2::new(dv.x * q.w - q.x * dv.w, dv.y * q.w - q.y * dv.w);
+    let scale = DVec2::new(m.row(0).truncate().length(), m.row(1).truncate().length()).max_element() * q.w.abs() * v.length();
+    let len = d.length();
+    if !(len > scale * (1.0 / (1u64 << 26) as f64)) {
+        return None;
+    }
+    Some(rotate_image(m, d / len))
 }
 
 /// η extent of the view frustum cut at the visible far distance.
@@ -338,7 +457,24 @@ fn psm(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted> {
     // however wide the cone (a fallback; the maximin axis is tried first).
     let hint = (lp.w != 0.0).then(|| DVec3::new(0.0, 0.0, -lp.w.signum()));
     let lam = central_projection(lp, &pts[..verts.len()], DepthKind::Polar, v, w, hint)?;
-    let m = crop(&(lam.m * c), verts, sv.settings.f32_origin)?;
+    let m = crop(&orient(&(lam.m * c), verts, sv), verts, sv.settings.f32_origin)?;
+    // PSM's texels follow the camera's perspective, which is not always
+    // what the receivers need (a light behind or ahead of the viewer): it is
+    // kept only where the prediction says it aliases no more than the
+    // uniform map; else the caller falls back to that map, and says so.
+    if !sv.settings.warp_guard {
+        let mut out = Fitted::plain(m, Method::Psm);
+        out.psm_shift = shift;
+        return Some(out);
+    }
+    let reference = uniform(sv, light, body)?;
+    let mut samples = Samples::new(sv, body);
+    let lpw = light_point(light);
+    if let (Some(t), Some(p)) = (samples.judge(&reference.m, lpw), samples.predict(&m.m, lpw)) {
+        if !p.no_worse_than(&t) {
+            return None;
+        }
+    }
     let mut out = Fitted::plain(m, Method::Psm);
     out.psm_shift = shift;
     Some(out)

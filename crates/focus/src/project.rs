@@ -16,6 +16,7 @@
 
 use crate::cone::{cone_axis, least_aligned, turn_into_cone};
 use crate::frame::tangent_frame;
+use crate::hull2::hull_area;
 use glam::{DMat4, DVec2, DVec3, DVec4};
 use shadowfocus_geom::MAX_VERTICES;
 
@@ -436,49 +437,14 @@ mod tests {
 /// Fraction of the map's image square `[−1, 1]²` covered by the projection
 /// of `pts` under the clip matrix `m` (every point with `w > 0`): the area
 /// of the convex hull of the projected points, divided by 4.
-///
-/// NOTE: a report, not a decision: the hull is built with plain f64 turns
-/// (Andrew's monotone chain), and a wrong turn on nearly collinear points
-/// changes the area by a rounding error only.
 pub(crate) fn utilisation(m: &DMat4, pts: &[DVec3]) -> f64 {
     let mut q = [DVec2::ZERO; MAX_VERTICES];
-    let mut n = 0;
-    for p in pts {
+    for (o, p) in q.iter_mut().zip(pts) {
         let c = *m * h(*p);
         if !(c.w > 0.0) {
             return 0.0;
         }
-        q[n] = DVec2::new(c.x / c.w, c.y / c.w);
-        n += 1;
+        *o = DVec2::new(c.x / c.w, c.y / c.w);
     }
-    if n == 0 {
-        return 0.0;
-    }
-    let q = &mut q[..n];
-    q.sort_unstable_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
-    let mut hull = [DVec2::ZERO; 2 * MAX_VERTICES];
-    let mut k = 0;
-    let turn = |o: DVec2, a: DVec2, b: DVec2| (a - o).perp_dot(b - o);
-    for pass in 0..2 {
-        let start = k;
-        let mut push = |p: DVec2, k: &mut usize| {
-            while *k >= start + 2 && turn(hull[*k - 2], hull[*k - 1], p) <= 0.0 {
-                *k -= 1;
-            }
-            hull[*k] = p;
-            *k += 1;
-        };
-        if pass == 0 {
-            q.iter().for_each(|p| push(*p, &mut k));
-        } else {
-            q.iter().rev().for_each(|p| push(*p, &mut k));
-        }
-        k -= 1; // the last point starts the other chain
-    }
-    let hull = &hull[..k];
-    let mut area2 = 0.0;
-    for i in 0..hull.len() {
-        area2 += hull[i].perp_dot(hull[(i + 1) % hull.len()]);
-    }
-    (0.125 * area2.abs()).min(1.0)
+    (0.25 * hull_area(&mut q[..pts.len()])).min(1.0)
 }

@@ -105,9 +105,6 @@ pub struct ShadowMap {
     pub warp_near: f64,
     /// PSM's virtual camera shift along −forward (0 when none was needed).
     pub psm_shift: f64,
-    /// Fraction of the map's area `[−1, 1]²` that the projection of its
-    /// body covers (0 for an empty map): how many texels the fit uses.
-    pub utilisation: f64,
     /// For point and spot lights, the distance `r` from the light within
     /// which casters may be left out of this map; 0 for directional lights.
     pub light_near: f64,
@@ -118,7 +115,8 @@ pub struct ShadowMap {
     /// `body_valid` is false).
     pub(crate) body: Body,
     pub(crate) body_valid: bool,
-    /// Bit 0: warp vanished; 1: PSM fell back; 2: stable ignored.
+    /// Bit 0: warp vanished; 1: PSM fell back; 2: stable ignored; 3: warp
+    /// limited by the predicted aliasing.
     pub(crate) flags: u8,
 }
 
@@ -137,7 +135,6 @@ impl ShadowMap {
             method: Method::Uniform,
             warp_near: f64::INFINITY,
             psm_shift: 0.0,
-            utilisation: 0.0,
             light_near: 0.0,
             light: Light::Directional { direction: glam::DVec3::NEG_Y },
             body: Body::new(),
@@ -165,11 +162,21 @@ impl ShadowMap {
         self.texel_size = [f64::INFINITY; 2];
         self.warp_near = f64::INFINITY;
         self.psm_shift = 0.0;
-        self.utilisation = 0.0;
     }
 
     pub fn is_active(&self) -> bool {
         self.state == MapState::Active
+    }
+
+    /// Fraction of the map's area `[−1, 1]²` that the projection of its
+    /// body covers (0 for an empty map): how many of its texels the fit
+    /// puts on `H`. Computed on demand (a 2D convex hull of the body's
+    /// image, no allocation), so that fits that do not ask do not pay.
+    pub fn utilisation(&self) -> f64 {
+        if !self.is_active() {
+            return 0.0;
+        }
+        crate::project::utilisation(&self.matrix, self.body().vertices())
     }
 }
 
@@ -219,7 +226,8 @@ flags! {
     /// Where the fit departed from the requested method, and why.
     Notes {
         /// PSM could not put the transformed light outside `H` (a point
-        /// light inside the scene): those maps are uniform.
+        /// light inside the scene), or its predicted aliasing was worse
+        /// than the uniform map's: those maps are uniform.
         PSM_FELL_BACK = 0, "psm_fell_back_to_uniform";
         /// A point light inside the view frustum cannot be seen by one
         /// perspective map: six cube faces were used.
@@ -237,6 +245,10 @@ flags! {
         /// the positions' f32 rounding (relative to `f32_origin`) is
         /// comparable to the body. The f64 matrix is still exact; rebase.
         F32_IMPRECISE = 5, "f32_imprecise";
+        /// LiSPSM/TSM: some map's warp was weakened, or replaced by the
+        /// uniform map, because it was predicted to alias more than the
+        /// uniform map fitted to the same body.
+        WARP_LIMITED = 6, "warp_limited";
     }
 }
 

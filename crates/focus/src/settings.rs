@@ -107,6 +107,22 @@ impl Default for TsmSettings {
     }
 }
 
+/// How a map's image is turned about its projection axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MapOrientation {
+    /// Uniform and PSM maps are turned so that the least-area rectangle
+    /// around the body's image fills the map; warped maps put their warp
+    /// exactly along the image of the view direction. The most texels on
+    /// the body; the orientation can jump where two rectangles tie.
+    LeastArea,
+    /// Every map's image up follows the (projected) view direction, blended
+    /// continuously into a second reference near the view axis (see the
+    /// module docs of the orientation frame): maps change continuously with
+    /// the light and the camera, at the price of unused texels where the
+    /// body's image lies across the frame.
+    ViewAligned,
+}
+
 /// How a point light is covered.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PointMode {
@@ -135,6 +151,13 @@ pub struct FocusSettings {
     /// mapped (the light's own radius); a perspective map cannot contain its
     /// centre. Must be positive.
     pub light_near: f64,
+    /// How each map's image is turned (default: least area).
+    pub orientation: MapOrientation,
+    /// LiSPSM, TSM and PSM are weakened or replaced by the uniform map where
+    /// their predicted aliasing is worse than the uniform map's (on by
+    /// default; off gives each method exactly as designed, continuous in its
+    /// inputs).
+    pub warp_guard: bool,
     /// Origin of the positions the f32 matrix is applied to:
     /// [`crate::ShadowMap::matrix_f32`] maps `p − f32_origin` (rounded to
     /// f32) and its rounding margins are computed for those magnitudes.
@@ -155,6 +178,8 @@ impl Default for FocusSettings {
             tsm: TsmSettings::default(),
             point: PointMode::Single,
             light_near: 0.05,
+            orientation: MapOrientation::LeastArea,
+            warp_guard: true,
             f32_origin: glam::DVec3::ZERO,
         }
     }

@@ -1,6 +1,9 @@
 //! Continuity: sweeping the light direction through the view direction,
 //! the image plane and behind the camera changes every method's maps
-//! continuously, without NaN.
+//! continuously, without NaN — for the continuous parameterisation
+//! (`MapOrientation::ViewAligned`, `warp_guard` off). The default
+//! least-area orientation and the warp guard trade that for texels: the
+//! rectangle of least area and the guard's choice can switch in one step.
 //!
 //! The measure is the map itself: normalised coordinates `(x/w, y/w,
 //! depth)` of fixed points of the view frustum (depth in the "less"
@@ -110,7 +113,13 @@ fn run(method: Method, splits: usize, g_is_up: bool) {
         far: 60.0,
     };
     let b = cam.basis().unwrap();
-    let settings = FocusSettings { method, splits: SplitSettings { count: splits, ..Default::default() }, ..Default::default() };
+    let settings = FocusSettings {
+        method,
+        splits: SplitSettings { count: splits, ..Default::default() },
+        orientation: MapOrientation::ViewAligned,
+        warp_guard: false,
+        ..Default::default()
+    };
     let sw = Sweep::new(cam, if g_is_up { b.up } else { b.right }, settings);
     let mut out = FocusResult::new();
     let n = 720;
