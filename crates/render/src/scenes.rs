@@ -702,16 +702,22 @@ pub fn thin_casters() -> Result<Scene, RenderError> {
     mb.end();
     let wood = [176, 140, 96];
     let steel = [150, 150, 160];
-    // Groups on a jittered grid in front of the camera (z from −140 to 100), rows in z.
-    for j in 0..17 {
-        for i in 0..9 {
-            let x = -64.0 + i as f64 * 16.0 + rng.range(-5.0, 5.0);
-            let z = -140.0 + j as f64 * 15.0 + rng.range(-4.0, 4.0);
+    // Rows across the view, from 6 m to ~220 m ahead of the camera (at z = −150), spaced in
+    // proportion to their distance and as wide as the view, so that casters and their long
+    // shadows (toward the camera) fill the image at every depth.
+    let mut d = 6.0f64;
+    let mut j = 0usize;
+    while d < 220.0 {
+        let half = (1.1 * d + 3.0f64).min(185.0);
+        let n = 7usize;
+        for i in 0..n {
+            let x = -half + (i as f64 + rng.range(0.2, 0.8)) * 2.0 * half / n as f64;
+            let z = -150.0 + d + rng.range(-0.2, 0.2) * d;
             let yaw = rng.range(0.0, std::f64::consts::PI);
             let ax = DVec3::new(yaw.cos(), 0.0, yaw.sin());
             let az = DVec3::new(-yaw.sin(), 0.0, yaw.cos());
             let at = |u: f64, y: f64, v: f64| DVec3::new(x, 0.0, z) + ax * u + DVec3::Y * y + az * v;
-            match (i * 7 + j * 3) % 4 {
+            match (i * 3 + j) % 4 {
                 0 => {
                     // A post.
                     let (r, h) = (rng.range(0.08, 0.16), rng.range(2.0, 6.0));
@@ -786,6 +792,8 @@ pub fn thin_casters() -> Result<Scene, RenderError> {
                 }
             }
         }
+        d = d * 1.15 + 1.5;
+        j += 1;
     }
     let eye = DVec3::new(0.0, 1.7, -150.0);
     let camera = CameraSpec {
