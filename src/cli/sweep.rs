@@ -441,7 +441,7 @@ fn azimuth_plot(sweep: &Sweep, value: impl Fn(&SweepRow) -> f64) -> Vec<Panel> {
     elevations
         .iter()
         .map(|&el| Panel {
-            title: format!("elevation {el}°"),
+            title: format!("sun elevation {el} deg"),
             series: sweep
                 .plan
                 .methods
@@ -517,9 +517,10 @@ fn write_worst(dir: &Path, renderer: &mut Renderer, scene: &Scene, sweep: &Sweep
         write_outputs(&dir.join("worst").join(folder), &out, Some(&extra)).map_err(|e| e.to_string())?;
         let color = out.color.downscale(k);
         let th = color.height.max(1);
-        let mut tiles = vec![(color, format!("{} adq {:.2}% p95 x{:.2}", r.label(), 100.0 * r.mismatch.rate_adequate, r.p95_ratio))];
+        let mut tiles = vec![(color, format!("{} p95 x{:.2} max x{:.2}", r.label(), r.p95_ratio, r.max_ratio))];
         if let Some(mm) = mismatch_view(&out) {
-            tiles.push((mm.downscale(k), format!("mismatch off-edge {:.2}%", 100.0 * r.mismatch.rate_off_edges)));
+            let m = &r.mismatch;
+            tiles.push((mm.downscale(k), format!("adequate {:.2}% off-edge {:.2}%", 100.0 * m.rate_adequate, 100.0 * m.rate_off_edges)));
         }
         for (j, map) in shadow_map_images(&out).iter().enumerate() {
             let f = map.height.div_ceil(th).max(1);
