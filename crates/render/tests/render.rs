@@ -274,10 +274,7 @@ fn filtering_blending_blur_and_linear_depth_keep_shadows_correct() {
             Pcf::Kernel { radius: 1 },
             0.15,
             None,
-            DepthMode::Projective {
-                constant: 0,
-                slope_scale: 2.0,
-            },
+            RenderSettings::default().depth,
         ),
         (
             "no pcf, linear depth",
@@ -298,10 +295,7 @@ fn filtering_blending_blur_and_linear_depth_keep_shadows_correct() {
                 max_radius_px: 6.0,
                 iterations: 2,
             }),
-            DepthMode::Projective {
-                constant: 0,
-                slope_scale: 2.0,
-            },
+            RenderSettings::default().depth,
         ),
     ];
     for (label, pcf, band, blur, depth) in variants {
