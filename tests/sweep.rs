@@ -5,7 +5,8 @@
 //! must hold in every configuration:
 //!
 //! (a) where the map resolves the shadow (pixels away from shadow edges with
-//!     at most 2 screen pixels per texel), at most 0.5 % of pixels are wrong;
+//!     at most 2 screen pixels per texel), at most 0.5 % of pixels are wrong
+//!     (judged where there are at least `MIN_ADEQUATE_PIXELS` = 400 of them);
 //! (b) LiSPSM's and TSM's p95 and maximum aliasing are within 1.1× of the
 //!     uniform map's at the same configuration, and PSM's too unless its fit
 //!     reports that it fell back to a uniform map.
@@ -14,7 +15,7 @@
 //! Cargo's temporary folder for integration tests (the failure message
 //! names it).
 
-use shadowfocus::cli::sweep::{self, parse_sweep_method, Sweep, SweepPlan, ADEQUATE_LIMIT};
+use shadowfocus::cli::sweep::{self, parse_sweep_method, Sweep, SweepPlan, ADEQUATE_LIMIT, MIN_ADEQUATE_PIXELS};
 use shadowfocus::render::{builtin_scene, Renderer};
 use std::path::PathBuf;
 use std::sync::Mutex;
@@ -24,9 +25,6 @@ const RES: u32 = 1024;
 const ELEVATIONS: [f64; 2] = [12.0, 35.0];
 const AZIMUTHS: [f64; 6] = [0.0, 60.0, 120.0, 180.0, 240.0, 300.0];
 const METHODS: [&str; 5] = ["uniform", "psm", "lispsm", "tsm", "lispsm4"];
-/// Adequately sampled pixels below which `rate_adequate` is not judged:
-/// with fewer than 200, one wrong pixel alone exceeds 0.5 %.
-const MIN_ADEQUATE_PIXELS: u64 = 400;
 /// Largest p95 and maximum aliasing of a warped map over the uniform one's.
 const WARP_LIMIT: f64 = 1.1;
 

@@ -328,12 +328,17 @@ pub fn sweep(renderer: &mut Renderer, scene: &Scene, plan: &SweepPlan, mut progr
 /// wrong (not merely undersampled).
 pub const ADEQUATE_LIMIT: f64 = 0.005;
 
+/// Adequately sampled pixels below which a configuration's `rate_adequate`
+/// does not rank it among the worst (with fewer than 200, one wrong pixel
+/// alone exceeds 0.5 %).
+pub const MIN_ADEQUATE_PIXELS: u64 = 400;
+
 /// The rows in order of badness: those whose `rate_adequate` exceeds
-/// [`ADEQUATE_LIMIT`], worst first, then the others by their p95 aliasing
-/// over uniform's, highest first.
+/// [`ADEQUATE_LIMIT`] over at least [`MIN_ADEQUATE_PIXELS`], worst first,
+/// then the others by their p95 aliasing over uniform's, highest first.
 pub fn worst(rows: &[SweepRow]) -> Vec<usize> {
     let key = |r: &SweepRow| {
-        let a = r.mismatch.rate_adequate;
+        let a = if r.mismatch.adequate_pixels >= MIN_ADEQUATE_PIXELS { r.mismatch.rate_adequate } else { 0.0 };
         let ratio = if r.p95_ratio.is_finite() { r.p95_ratio } else { 0.0 };
         (if a > ADEQUATE_LIMIT { a } else { 0.0 }, ratio)
     };
@@ -621,7 +626,7 @@ mod tests {
             resolution: 1,
             maps: 1,
             aliasing: AliasingStats::default(),
-            mismatch: MismatchStats { rate_adequate: adequate, ..MismatchStats::default() },
+            mismatch: MismatchStats { rate_adequate: adequate, adequate_pixels: 1000, ..MismatchStats::default() },
             utilisation: Vec::new(),
             utilisation_mean: f64::NAN,
             utilisation_min: f64::NAN,
@@ -633,8 +638,10 @@ mod tests {
 
     #[test]
     fn worst_puts_wrong_shadows_first_then_aliasing_ratios() {
-        let rows = [row("a", 0.0, 1.0), row("b", 0.001, 3.0), row("c", 0.02, 1.0), row("d", 0.3, 0.5), row("e", 0.0, f64::NAN), row("f", 0.0, 1.5)];
-        assert_eq!(worst(&rows), vec![3, 2, 1, 5, 0, 4]);
+        let mut few = row("g", 0.5, 1.2);
+        few.mismatch.adequate_pixels = MIN_ADEQUATE_PIXELS - 1;
+        let rows = [row("a", 0.0, 1.0), row("b", 0.001, 3.0), row("c", 0.02, 1.0), row("d", 0.3, 0.5), row("e", 0.0, f64::NAN), row("f", 0.0, 1.5), few];
+        assert_eq!(worst(&rows), vec![3, 2, 1, 5, 6, 0, 4], "too few adequate pixels to rank by their mismatch");
     }
 
     #[test]
