@@ -42,7 +42,7 @@ pub use image::{
 pub use metrics::{
     pixel_matches, AliasingStats, ADEQUATE_ALIASING, CasterStats, CoverageStats, MismatchStats, RenderMetrics,
 };
-pub use output::{aliasing_image, metrics_json, mismatch_view, shadow_map_images, write_outputs};
+pub use output::{aliasing_image, caption, metrics_json, mismatch_view, shadow_map_images, write_outputs};
 pub use renderer::{render_scene, DepthMap, RenderOutput, RenderRequest, Renderer};
 pub use scene::{Scene, SceneObject, Vertex};
 pub use scenes::{builtin_scene, BUILTIN_SCENES};

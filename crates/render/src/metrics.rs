@@ -105,6 +105,11 @@ pub struct RenderMetrics {
     pub casters: CasterStats,
     /// Visible pixels served by each map.
     pub split_pixels: Vec<u64>,
+    /// Per map, the fraction of its area its focus body's projection covers, as given in the
+    /// request (empty when not given), and their least and mean values (null when not given).
+    pub map_utilisation: Vec<f64>,
+    pub utilisation_min: Option<f64>,
+    pub utilisation_mean: Option<f64>,
     pub settings: RenderSettings,
 }
 
@@ -384,8 +389,19 @@ pub(crate) fn compute(
             total: req.scene.objects.len() as u32,
         },
         split_pixels,
+        map_utilisation: req.utilisation.to_vec(),
+        utilisation_min: utilisation_min(req.utilisation),
+        utilisation_mean: utilisation_mean(req.utilisation),
         settings: req.settings,
     }
+}
+
+fn utilisation_min(u: &[f64]) -> Option<f64> {
+    u.iter().copied().reduce(f64::min)
+}
+
+fn utilisation_mean(u: &[f64]) -> Option<f64> {
+    (!u.is_empty()).then(|| u.iter().sum::<f64>() / u.len() as f64)
 }
 
 #[cfg(test)]
@@ -496,6 +512,24 @@ mod tests {
         assert_eq!(m["adequate_pixels"].as_u64(), Some(2 * 3 * 4));
         assert_eq!(m["adequate_mismatched"].as_u64(), Some(3 * 4));
         assert!((m["rate_adequate"].as_f64().unwrap() - 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn utilisation_summaries() {
+        assert_eq!(utilisation_min(&[]), None);
+        assert_eq!(utilisation_mean(&[]), None);
+        assert_eq!(utilisation_min(&[0.5, 0.25, 0.75]), Some(0.25));
+        assert_eq!(utilisation_mean(&[0.5, 0.25, 0.75]), Some(0.5));
+        let m = RenderMetrics {
+            map_utilisation: vec![0.5, 0.25],
+            utilisation_min: Some(0.25),
+            utilisation_mean: Some(0.375),
+            ..Default::default()
+        };
+        let j = crate::output::metrics_json(&m, None);
+        assert_eq!(j["map_utilisation"], serde_json::json!([0.5, 0.25]));
+        assert_eq!(j["utilisation_mean"].as_f64(), Some(0.375));
+        assert_eq!(j["utilisation_min"].as_f64(), Some(0.25));
     }
 
     #[test]

@@ -25,6 +25,10 @@ pub struct RenderRequest<'a> {
     pub camera: CameraSpec,
     pub light: LightSpec,
     pub maps: &'a [ShadowMapSpec],
+    /// Per map (in `maps` order), the fraction of the map's area that its focus body's projection
+    /// covers (`shadowfocus_focus::ShadowMap::utilisation`), when the caller knows it: reported in
+    /// the metrics. Empty when unknown; otherwise one value per map.
+    pub utilisation: &'a [f64],
     pub settings: RenderSettings,
 }
 
@@ -36,6 +40,7 @@ impl<'a> RenderRequest<'a> {
             camera: scene.camera,
             light: scene.light,
             maps,
+            utilisation: &[],
             settings: RenderSettings::default(),
         }
     }
@@ -48,7 +53,28 @@ impl<'a> RenderRequest<'a> {
         self.settings.validate()?;
         self.camera.validate()?;
         self.light.validate()?;
-        validate_maps(self.maps, self.scene.objects.len())
+        validate_maps(self.maps, self.scene.objects.len())?;
+        if !self.utilisation.is_empty() && self.utilisation.len() != self.maps.len() {
+            return Err(RenderError::invalid(
+                "map utilisation",
+                format!(
+                    "{} values for {} maps",
+                    self.utilisation.len(),
+                    self.maps.len()
+                ),
+            ));
+        }
+        if let Some(u) = self
+            .utilisation
+            .iter()
+            .find(|u| !(0.0..=1.0).contains(*u))
+        {
+            return Err(RenderError::invalid(
+                "map utilisation",
+                format!("{u} is not within [0, 1]"),
+            ));
+        }
+        Ok(())
     }
 }
 
