@@ -100,7 +100,13 @@ pub fn render_frame(renderer: &mut Renderer, scene: &Scene, frame: &Frame, opts:
     let settings = opts.settings()?;
     let aspect = size.0 as f64 / size.1 as f64;
     let (specs, focusing_us, summary) = fit_frame(scene, frame, aspect, &settings)?;
+    // Reported in the metrics; a map the body fills exactly can come out a
+    // rounding error above 1.
+    let utilisation: Vec<f64> = summary["utilisation"].as_array().map_or(Vec::new(), |a| a.iter().filter_map(Value::as_f64).map(|u| u.clamp(0.0, 1.0)).collect());
     let mut req = RenderRequest::new(scene, &specs);
+    if utilisation.len() == specs.len() {
+        req.utilisation = &utilisation;
+    }
     req.camera = frame.camera;
     req.light = frame.light;
     req.settings.save_shadow_maps = maps;

@@ -248,13 +248,6 @@ pub struct Sweep {
     pub rows: Vec<SweepRow>,
 }
 
-fn mean_min(v: &[f64]) -> (f64, f64) {
-    if v.is_empty() {
-        return (f64::NAN, f64::NAN);
-    }
-    (v.iter().sum::<f64>() / v.len() as f64, v.iter().cloned().fold(f64::INFINITY, f64::min))
-}
-
 /// A progress line on stderr: `[12/90] lispsm el 35 az 120`, rewritten in
 /// place on a terminal.
 pub fn progress_line(done: usize, total: usize, what: &str) {
@@ -307,8 +300,9 @@ pub fn sweep(renderer: &mut Renderer, scene: &Scene, plan: &SweepPlan, mut progr
             row.aliasing = met.aliasing;
             row.mismatch = met.mismatch.ok_or("the renderer gave no ground truth")?;
             let fit = &extra["fit"];
-            row.utilisation = fit["utilisation"].as_array().map_or(Vec::new(), |a| a.iter().filter_map(Value::as_f64).collect());
-            (row.utilisation_mean, row.utilisation_min) = mean_min(&row.utilisation);
+            row.utilisation = met.map_utilisation.clone();
+            row.utilisation_mean = met.utilisation_mean.unwrap_or(f64::NAN);
+            row.utilisation_min = met.utilisation_min.unwrap_or(f64::NAN);
             let names = |k: &str| fit[k].as_array().map_or(Vec::new(), |a| a.iter().filter_map(|v| v.as_str().map(str::to_owned)).collect::<Vec<_>>());
             row.notes = names("notes");
             row.notes.extend(names("skipped").into_iter().map(|s| format!("skipped:{s}")));
