@@ -53,9 +53,19 @@ enum Command {
         /// Image size, WxH.
         #[arg(long, default_value = "960x540", value_parser = cli::render::parse_size)]
         size: (u32, u32),
+        #[command(flatten)]
+        overrides: cli::overrides::Overrides,
         /// Output folder.
         #[arg(long)]
         out: PathBuf,
+    },
+    /// A directional light swept over elevations × azimuths around the
+    /// camera's view direction, every method at each: sweep.csv, sweep.json,
+    /// plots of aliasing and mismatch against azimuth, the worst
+    /// configurations on a contact sheet.
+    Sweep {
+        #[command(flatten)]
+        options: cli::sweep::SweepOptions,
     },
     /// Run time against error: scenes × methods × splits × resolutions, skip plan on/off, numerical stress.
     Bench {
@@ -76,6 +86,8 @@ enum Command {
         /// Scenes to render (default: all built-in scenes).
         #[arg(long, value_delimiter = ',')]
         scenes: Vec<String>,
+        #[command(flatten)]
+        overrides: cli::overrides::Overrides,
     },
 }
 
@@ -133,10 +145,11 @@ fn run(command: Command) -> Result<bool, String> {
             }
             failures(quiet_pipe(cli::fit::run(input, BufWriter::new(io::stdout().lock()), &settings))?)
         }
-        Command::Render { scene, options, size, out } => {
-            let mut renderer = shadowfocus::render::Renderer::from_env().map_err(|e| e.to_string())?;
+        Command::Render { scene, options, size, overrides, out } => {
             let scene = shadowfocus::render::load_scene(&scene).map_err(|e| e.to_string())?;
-            let result = cli::render::render_to(&mut renderer, &scene, &options, size, &out)?;
+            let frame = cli::overrides::Frame::with(&scene, &overrides)?;
+            let mut renderer = shadowfocus::render::Renderer::from_env().map_err(|e| e.to_string())?;
+            let result = cli::render::render_frame_to(&mut renderer, &scene, &frame, &options, size, &out)?;
             println!("{}", serde_json::to_string(&result.metrics).map_err(|e| e.to_string())?);
             Ok(true)
         }
@@ -144,13 +157,18 @@ fn run(command: Command) -> Result<bool, String> {
             println!("{}", cli::bench::run(&options)?);
             Ok(true)
         }
-        Command::Demo { out, size, resolution, scenes } => {
+        Command::Sweep { options } => {
+            let summary = cli::sweep::run(&options)?;
+            eprintln!("wrote {} configurations to {}", summary.rows.len(), options.out.join("sweep.csv").display());
+            Ok(true)
+        }
+        Command::Demo { out, size, resolution, scenes, overrides } => {
             let scenes = if scenes.is_empty() {
                 shadowfocus::render::BUILTIN_SCENES.iter().map(|s| s.to_string()).collect()
             } else {
                 scenes
             };
-            let summary = cli::render::demo(&out, size, resolution, &scenes)?;
+            let summary = cli::render::demo(&out, size, resolution, &scenes, &overrides)?;
             eprintln!("wrote {} renders and {}", summary["results"].as_array().map_or(0, |r| r.len()), out.join("contact_sheet.png").display());
             Ok(true)
         }

@@ -5,7 +5,9 @@ pub mod bench;
 pub mod body;
 pub mod case;
 pub mod fit;
+pub mod overrides;
 pub mod render;
+pub mod sweep;
 
 /// What the `--bench` tests share: input lines and the check of a timing.
 #[cfg(test)]

@@ -1,6 +1,7 @@
 //! `shadowfocus render` and `shadowfocus demo`: focusing + the validation renderer.
 
 use super::fit::FitOptions;
+use super::overrides::{Frame, Overrides};
 use serde_json::{json, Value};
 use shadowfocus_focus::{cull_casters, fit, DepthTest, FocusResult, FocusSettings, Method};
 use shadowfocus_geom::{Aabb, Camera, Frustum, Light};
@@ -11,9 +12,14 @@ use std::time::Instant;
 
 /// The geometry-side camera, light and scene box of a render scene.
 pub fn scene_inputs(scene: &Scene, aspect: f64) -> Result<(Camera, Light, Aabb), String> {
-    let c = scene.camera;
+    frame_inputs(scene, &Frame::of(scene), aspect)
+}
+
+/// The geometry-side camera, light and scene box of a scene seen in `frame`.
+pub fn frame_inputs(scene: &Scene, frame: &Frame, aspect: f64) -> Result<(Camera, Light, Aabb), String> {
+    let c = frame.camera;
     let camera = Camera { eye: c.eye, forward: c.forward, up: c.up, fovy: c.fovy, aspect, near: c.near, far: c.far };
-    let light = match scene.light {
+    let light = match frame.light {
         LightSpec::Directional { direction } => Light::directional(direction),
         LightSpec::Point { position } => Light::point(position),
         s @ LightSpec::Spot { position, .. } => {
@@ -30,7 +36,14 @@ pub fn scene_inputs(scene: &Scene, aspect: f64) -> Result<(Camera, Light, Aabb),
 /// culled caster lists. Returns the specs, the focusing time in µs and the
 /// fit's skip/notes summary.
 pub fn fit_scene(scene: &Scene, aspect: f64, settings: &FocusSettings) -> Result<(Vec<ShadowMapSpec>, f64, Value), String> {
-    let (camera, light, bounds) = scene_inputs(scene, aspect)?;
+    fit_frame(scene, &Frame::of(scene), aspect, settings)
+}
+
+/// [`fit_scene`] with the camera and light of `frame`. The summary also
+/// gives each active map's utilisation (the fraction of the map's area that
+/// the projection of its focus body covers).
+pub fn fit_frame(scene: &Scene, frame: &Frame, aspect: f64, settings: &FocusSettings) -> Result<(Vec<ShadowMapSpec>, f64, Value), String> {
+    let (camera, light, bounds) = frame_inputs(scene, frame, aspect)?;
     let mut result = FocusResult::new();
     // Focusing time: median of a few fits (the first one warms caches).
     let mut times = Vec::new();
@@ -43,7 +56,9 @@ pub fn fit_scene(scene: &Scene, aspect: f64, settings: &FocusSettings) -> Result
     let boxes: Vec<Aabb> = scene.objects.iter().map(|o| Aabb { min: o.aabb.min, max: o.aabb.max }).collect();
     let mut idx = vec![0u32; boxes.len()];
     let mut specs = Vec::new();
+    let mut utilisation = Vec::new();
     for m in result.maps().iter().filter(|m| m.is_active()) {
+        utilisation.push(m.utilisation);
         let n = cull_casters(m, &boxes, &mut idx);
         specs.push(ShadowMapSpec {
             world_to_clip: m.matrix_f32,
@@ -60,16 +75,41 @@ pub fn fit_scene(scene: &Scene, aspect: f64, settings: &FocusSettings) -> Result
         "notes": result.notes.names().collect::<Vec<_>>(),
         "maps_fitted": result.maps().len(),
         "maps_active": specs.len(),
+        "utilisation": utilisation,
     });
     Ok((specs, focusing_us, summary))
 }
 
 /// Renders one scene with one configuration and writes its outputs.
 pub fn render_to(renderer: &mut Renderer, scene: &Scene, opts: &FitOptions, size: (u32, u32), dir: &Path) -> Result<render::RenderOutput, String> {
+    render_frame_to(renderer, scene, &Frame::of(scene), opts, size, dir)
+}
+
+/// [`render_to`] with the camera and light of `frame`.
+pub fn render_frame_to(renderer: &mut Renderer, scene: &Scene, frame: &Frame, opts: &FitOptions, size: (u32, u32), dir: &Path) -> Result<render::RenderOutput, String> {
+    let (out, extra) = render_frame(renderer, scene, frame, opts, size, true)?;
+    write_outputs(dir, &out, Some(&extra)).map_err(|e| e.to_string())?;
+    Ok(out)
+}
+
+/// Fits and renders one frame (ground truth on; the shadow maps read back
+/// when `maps` is set). Returns the output and the fields `metrics.json`
+/// adds in front of the renderer's metrics (method, focusing time, the
+/// fit's summary).
+pub fn render_frame(renderer: &mut Renderer, scene: &Scene, frame: &Frame, opts: &FitOptions, size: (u32, u32), maps: bool) -> Result<(render::RenderOutput, Value), String> {
     let settings = opts.settings()?;
     let aspect = size.0 as f64 / size.1 as f64;
-    let (maps, focusing_us, summary) = fit_scene(scene, aspect, &settings)?;
-    let mut req = RenderRequest::new(scene, &maps);
+    let (specs, focusing_us, summary) = fit_frame(scene, frame, aspect, &settings)?;
+    // Reported in the metrics; a map the body fills exactly can come out a
+    // rounding error above 1.
+    let utilisation: Vec<f64> = summary["utilisation"].as_array().map_or(Vec::new(), |a| a.iter().filter_map(Value::as_f64).map(|u| u.clamp(0.0, 1.0)).collect());
+    let mut req = RenderRequest::new(scene, &specs);
+    if utilisation.len() == specs.len() {
+        req.utilisation = &utilisation;
+    }
+    req.camera = frame.camera;
+    req.light = frame.light;
+    req.settings.save_shadow_maps = maps;
     req.settings.width = size.0;
     req.settings.height = size.1;
     req.settings.shadow_resolution = opts.resolution;
@@ -82,8 +122,7 @@ pub fn render_to(renderer: &mut Renderer, scene: &Scene, opts: &FitOptions, size
         "focusing_us": focusing_us,
         "fit": summary,
     });
-    write_outputs(dir, &out, Some(&extra)).map_err(|e| e.to_string())?;
-    Ok(out)
+    Ok((out, extra))
 }
 
 pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -120,7 +159,8 @@ fn progress(done: usize, total: usize, label: &str) {
 
 /// Renders every built-in scene with every demo configuration into `dir`,
 /// plus `contact_sheet.png` and `summary.json`.
-pub fn demo(dir: &Path, size: (u32, u32), resolution: u32, scenes: &[String]) -> Result<Value, String> {
+/// With `overrides`, every scene is seen with that camera and/or light.
+pub fn demo(dir: &Path, size: (u32, u32), resolution: u32, scenes: &[String], overrides: &Overrides) -> Result<Value, String> {
     let mut renderer = Renderer::from_env().map_err(|e| e.to_string())?;
     let configs = demo_configs(resolution);
     let total = scenes.len() * configs.len();
@@ -129,10 +169,11 @@ pub fn demo(dir: &Path, size: (u32, u32), resolution: u32, scenes: &[String]) ->
     let mut done = 0;
     for name in scenes {
         let scene = render::load_scene(name).map_err(|e| e.to_string())?;
+        let frame = Frame::with(&scene, overrides)?;
         for (label, opts) in &configs {
             progress(done, total, &format!("{name} / {label}"));
             let sub = dir.join(name).join(label);
-            let out = render_to(&mut renderer, &scene, opts, size, &sub)?;
+            let out = render_frame_to(&mut renderer, &scene, &frame, opts, size, &sub)?;
             let m = &out.metrics;
             rows.push(json!({
                 "scene": name, "config": label, "aliasing": m.aliasing, "mismatch": m.mismatch,

@@ -6,6 +6,8 @@
 //! - [`table`], [`plot`], [`svg`], [`raster`]: rows of the run-time-against-error
 //!   sweep, their CSV and markdown views, Pareto fronts and log–log plots
 //!   (SVG and PNG).
+//! - [`lines`]: line plots in panels (PNG), one curve per series: the light
+//!   sweep's aliasing and mismatch against azimuth.
 //! - [`stress`], [`naive`]: numerical stress families checked exactly,
 //!   against a naive floating-point pipeline, and against [`oracle`], an
 //!   independent big-integer reference for the body.
@@ -16,6 +18,7 @@
 
 pub mod bound;
 pub mod fixtures;
+pub mod lines;
 pub mod naive;
 pub mod oracle;
 pub mod plot;

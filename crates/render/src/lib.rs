@@ -40,9 +40,9 @@ pub use image::{
     PixelMatch, HEAT_UNLIT_VALUE,
 };
 pub use metrics::{
-    pixel_matches, AliasingStats, CasterStats, CoverageStats, MismatchStats, RenderMetrics,
+    pixel_matches, AliasingStats, ADEQUATE_ALIASING, CasterStats, CoverageStats, MismatchStats, RenderMetrics,
 };
-pub use output::{aliasing_image, metrics_json, mismatch_view, shadow_map_images, write_outputs};
+pub use output::{aliasing_image, caption, metrics_json, mismatch_view, shadow_map_images, write_outputs};
 pub use renderer::{render_scene, DepthMap, RenderOutput, RenderRequest, Renderer};
 pub use scene::{Scene, SceneObject, Vertex};
 pub use scenes::{builtin_scene, BUILTIN_SCENES};

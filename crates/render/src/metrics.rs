@@ -34,7 +34,17 @@ pub struct MismatchStats {
     pub false_shadow: u64,
     /// Rendered lit but truly shadowed.
     pub false_light: u64,
+    /// The mismatch rate over the pixels the map can resolve: off edges and with aliasing at most
+    /// [`ADEQUATE_ALIASING`] screen pixels per texel (a map can only get shadows wrong there
+    /// through a wrong bias, a lost caster or a broken depth order, not through undersampling).
+    pub rate_adequate: f64,
+    pub adequate_pixels: u64,
+    pub adequate_mismatched: u64,
 }
+
+/// Largest aliasing (screen pixels per shadow-map texel) at which a pixel counts as adequately
+/// sampled in [`MismatchStats::rate_adequate`].
+pub const ADEQUATE_ALIASING: f32 = 2.0;
 
 /// Whether every visible pixel (inside a spot light's pyramid) got a shadow map.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
@@ -95,6 +105,11 @@ pub struct RenderMetrics {
     pub casters: CasterStats,
     /// Visible pixels served by each map.
     pub split_pixels: Vec<u64>,
+    /// Per map, the fraction of its area its focus body's projection covers, as given in the
+    /// request (empty when not given), and their least and mean values (null when not given).
+    pub map_utilisation: Vec<f64>,
+    pub utilisation_min: Option<f64>,
+    pub utilisation_mean: Option<f64>,
     pub settings: RenderSettings,
 }
 
@@ -251,6 +266,12 @@ pub(crate) fn mismatch_stats(
         if off[i] {
             s.off_edge_pixels += 1;
         }
+        // NaN (background) and −1 (no map) fail both comparisons.
+        let e = out.aliasing[i];
+        let adequate = off[i] && e >= 0.0 && e <= ADEQUATE_ALIASING;
+        if adequate {
+            s.adequate_pixels += 1;
+        }
         let bad = match pm {
             PixelMatch::FalseShadow { .. } => {
                 s.false_shadow += 1;
@@ -267,6 +288,9 @@ pub(crate) fn mismatch_stats(
             if off[i] {
                 s.off_edge_mismatched += 1;
             }
+            if adequate {
+                s.adequate_mismatched += 1;
+            }
         }
     }
     s.rate = if s.pixels > 0 {
@@ -276,6 +300,11 @@ pub(crate) fn mismatch_stats(
     };
     s.rate_off_edges = if s.off_edge_pixels > 0 {
         s.off_edge_mismatched as f64 / s.off_edge_pixels as f64
+    } else {
+        0.0
+    };
+    s.rate_adequate = if s.adequate_pixels > 0 {
+        s.adequate_mismatched as f64 / s.adequate_pixels as f64
     } else {
         0.0
     };
@@ -360,8 +389,19 @@ pub(crate) fn compute(
             total: req.scene.objects.len() as u32,
         },
         split_pixels,
+        map_utilisation: req.utilisation.to_vec(),
+        utilisation_min: utilisation_min(req.utilisation),
+        utilisation_mean: utilisation_mean(req.utilisation),
         settings: req.settings,
     }
+}
+
+fn utilisation_min(u: &[f64]) -> Option<f64> {
+    u.iter().copied().reduce(f64::min)
+}
+
+fn utilisation_mean(u: &[f64]) -> Option<f64> {
+    (!u.is_empty()).then(|| u.iter().sum::<f64>() / u.len() as f64)
 }
 
 #[cfg(test)]
@@ -426,6 +466,70 @@ mod tests {
         assert_eq!(m[0], PixelMatch::Agree);
         assert_eq!(m[5], PixelMatch::FalseLight { edge: true });
         assert_eq!(m[10 + 7], PixelMatch::FalseLight { edge: false });
+    }
+
+    #[test]
+    fn adequate_pixels_are_off_edges_and_resolved_by_the_map() {
+        let (mut out, truth) = frame(10, 6);
+        // Aliasing per column: 0.5, 1, …, 5 screen pixels per texel; row 2 has no map (−1).
+        for y in 0..6 {
+            for x in 0..10 {
+                out.aliasing[y * 10 + x] = if y == 2 { -1.0 } else { 0.5 * (x + 1) as f32 };
+            }
+        }
+        let s = mismatch_stats(&out, &truth, 1);
+        // Off edges: columns 1..=3 and 6..=8 of rows 1..=4; e ≤ 2 keeps columns 1..=3 (e = 1,
+        // 1.5, 2: the bound is inclusive); row 2 is uncovered. All of them are truly lit and
+        // rendered lit.
+        assert_eq!(s.adequate_pixels, 3 * 3);
+        assert_eq!(s.adequate_mismatched, 0);
+        assert_eq!(s.rate_adequate, 0.0);
+        // Finer maps on the right half: its off-edge pixels (all false lights) become adequate.
+        for y in 0..6 {
+            for x in 5..10 {
+                out.aliasing[y * 10 + x] = if y == 2 { f32::NAN } else { 2.0 };
+            }
+        }
+        let s = mismatch_stats(&out, &truth, 1);
+        assert_eq!((s.adequate_pixels, s.adequate_mismatched), (2 * 3 * 3, 3 * 3));
+        assert!((s.rate_adequate - 0.5).abs() < 1e-12);
+        // Just above the bound nothing on the right counts.
+        for y in [0, 1, 3, 4, 5] {
+            for x in 5..10 {
+                out.aliasing[y * 10 + x] = 2.0001;
+            }
+        }
+        let s = mismatch_stats(&out, &truth, 1);
+        assert_eq!((s.adequate_pixels, s.adequate_mismatched), (3 * 3, 0));
+    }
+
+    #[test]
+    fn adequate_rate_reaches_metrics_json() {
+        let (mut out, truth) = frame(10, 6);
+        out.metrics.mismatch = Some(mismatch_stats(&out, &truth, 1));
+        let j = crate::output::metrics_json(&out.metrics, None);
+        let m = &j["mismatch"];
+        assert_eq!(m["adequate_pixels"].as_u64(), Some(2 * 3 * 4));
+        assert_eq!(m["adequate_mismatched"].as_u64(), Some(3 * 4));
+        assert!((m["rate_adequate"].as_f64().unwrap() - 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn utilisation_summaries() {
+        assert_eq!(utilisation_min(&[]), None);
+        assert_eq!(utilisation_mean(&[]), None);
+        assert_eq!(utilisation_min(&[0.5, 0.25, 0.75]), Some(0.25));
+        assert_eq!(utilisation_mean(&[0.5, 0.25, 0.75]), Some(0.5));
+        let m = RenderMetrics {
+            map_utilisation: vec![0.5, 0.25],
+            utilisation_min: Some(0.25),
+            utilisation_mean: Some(0.375),
+            ..Default::default()
+        };
+        let j = crate::output::metrics_json(&m, None);
+        assert_eq!(j["map_utilisation"], serde_json::json!([0.5, 0.25]));
+        assert_eq!(j["utilisation_mean"].as_f64(), Some(0.375));
+        assert_eq!(j["utilisation_min"].as_f64(), Some(0.25));
     }
 
     #[test]

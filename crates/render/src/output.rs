@@ -29,8 +29,16 @@ pub fn aliasing_image(out: &RenderOutput) -> Image {
         out.height,
         &e,
         Some(&receiver),
-        &out.metrics.scene,
+        &caption(&out.metrics),
     )
+}
+
+/// The scene name with the maps' mean utilisation, where known ("forest  util 43%").
+pub fn caption(m: &RenderMetrics) -> String {
+    match m.utilisation_mean {
+        Some(u) => format!("{}  util {:.0}%", m.scene, 100.0 * u),
+        None => m.scene.clone(),
+    }
 }
 
 /// The mismatch image, when the render has ground truth.

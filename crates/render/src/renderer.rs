@@ -25,6 +25,10 @@ pub struct RenderRequest<'a> {
     pub camera: CameraSpec,
     pub light: LightSpec,
     pub maps: &'a [ShadowMapSpec],
+    /// Per map (in `maps` order), the fraction of the map's area that its focus body's projection
+    /// covers (`shadowfocus_focus::ShadowMap::utilisation`), when the caller knows it: reported in
+    /// the metrics. Empty when unknown; otherwise one value per map.
+    pub utilisation: &'a [f64],
     pub settings: RenderSettings,
 }
 
@@ -36,6 +40,7 @@ impl<'a> RenderRequest<'a> {
             camera: scene.camera,
             light: scene.light,
             maps,
+            utilisation: &[],
             settings: RenderSettings::default(),
         }
     }
@@ -48,7 +53,28 @@ impl<'a> RenderRequest<'a> {
         self.settings.validate()?;
         self.camera.validate()?;
         self.light.validate()?;
-        validate_maps(self.maps, self.scene.objects.len())
+        validate_maps(self.maps, self.scene.objects.len())?;
+        if !self.utilisation.is_empty() && self.utilisation.len() != self.maps.len() {
+            return Err(RenderError::invalid(
+                "map utilisation",
+                format!(
+                    "{} values for {} maps",
+                    self.utilisation.len(),
+                    self.maps.len()
+                ),
+            ));
+        }
+        if let Some(u) = self
+            .utilisation
+            .iter()
+            .find(|u| !(0.0..=1.0).contains(*u))
+        {
+            return Err(RenderError::invalid(
+                "map utilisation",
+                format!("{u} is not within [0, 1]"),
+            ));
+        }
+        Ok(())
     }
 }
 
@@ -154,6 +180,18 @@ const VIS_FMT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
 const VIZ_FMT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 const COLOR_FMT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 const DEPTH_FMT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// Constant term of the per-map depth bias, in the map's depth units ([0, 1]): four steps of
+/// `Depth32Float` at 1 (2⁻²⁴ each), which bounds the storage rounding of the caster's depth and the
+/// rasteriser's interpolation error relative to its triangle's depths (at most 1). The rounding of
+/// the receiver's own depth is bounded per fragment (`depth_rounding` in `scene.wgsl`).
+const RECEIVER_PLANE_CONSTANT: f32 = 4.0 / 16_777_216.0;
+
+/// The slope term is capped at this tan θ (θ = 87°, the receiver's tilt to the light ray):
+/// a plane nearly containing the light ray has an unbounded depth slope per texel, and an
+/// unbounded bias would let it receive no shadow at all. Such surfaces get almost no light
+/// (cos θ < 0.05) and are sampled by the map along a line, never adequately.
+const RECEIVER_PLANE_MAX_TAN: f32 = 19.08;
 
 #[derive(Clone, Copy, PartialEq, Eq, Hash)]
 struct ShadowPipelineKey {
@@ -713,15 +751,16 @@ impl Renderer {
         let scene = req.scene;
         let (w, h, res) = (s.width, s.height, s.shadow_resolution);
         let clamp = s.depth_clamp && self.gpu.summary.depth_clamp;
-        let (linear, lin_const, lin_slope, bias_c, bias_s) = match s.depth {
+        let (linear, lin_const, lin_slope, bias_c, bias_s, receiver_plane) = match s.depth {
             DepthMode::Projective {
                 constant,
                 slope_scale,
-            } => (false, 0.0, 0.0, constant, slope_scale),
+                receiver_plane,
+            } => (false, 0.0, 0.0, constant, slope_scale, receiver_plane),
             DepthMode::Linear {
                 constant,
                 slope_scale,
-            } => (true, constant, slope_scale, 0, 0.0),
+            } => (true, constant, slope_scale, 0, 0.0, false),
         };
         let (lin_a, lin_mode) = linear_params(&req.light, scene);
         let lin_b = [
@@ -875,7 +914,12 @@ impl Renderer {
             lin_a,
             lin_b,
             params: [req.maps.len() as f32, res as f32, pcf_mode, pcf_radius],
-            params2: [s.blend_band, 0.0, 0.0, 0.0],
+            params2: [
+                s.blend_band,
+                if receiver_plane { 1.0 } else { 0.0 },
+                RECEIVER_PLANE_CONSTANT,
+                RECEIVER_PLANE_MAX_TAN,
+            ],
             maps,
         };
         let frame_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -922,7 +966,9 @@ impl Renderer {
                 resource: wgpu::BindingResource::TextureView(&shadow_array_view),
             },
         ];
-        let sampler = if s.pcf == Pcf::Off {
+        // The receiver-plane bias compares each texel with its own reference (bilinear weights in
+        // the shader), through the nearest sampler.
+        let sampler = if s.pcf == Pcf::Off || receiver_plane {
             &self.samplers[1]
         } else {
             &self.samplers[0]

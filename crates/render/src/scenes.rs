@@ -11,13 +11,14 @@ use crate::scene::{MeshBuilder, Scene};
 use crate::types::{CameraSpec, LightSpec};
 
 /// Names accepted by [`builtin_scene`].
-pub const BUILTIN_SCENES: [&str; 6] = [
+pub const BUILTIN_SCENES: [&str; 7] = [
     "chessboard",
     "huge-chessboard",
     "forest",
     "robot-war",
     "duelling-frusta",
     "inverted",
+    "thin-casters",
 ];
 
 /// Builds a built-in scene by name.
@@ -29,6 +30,7 @@ pub fn builtin_scene(name: &str) -> Result<Scene, RenderError> {
         "robot-war" => robot_war(),
         "duelling-frusta" => duelling_frusta(),
         "inverted" => inverted(),
+        "thin-casters" => thin_casters(),
         _ => Err(RenderError::UnknownScene {
             name: name.to_string(),
             known: BUILTIN_SCENES.join(", "),
@@ -680,6 +682,136 @@ pub fn inverted() -> Result<Scene, RenderError> {
     finish("inverted", mb, camera, light)
 }
 
+/// `thin-casters`: posts, beams on post pairs, slatted fences and crates over a 400 m × 400 m
+/// ground box, the camera at eye height (1.7 m) looking slightly down, fov 60°, near 0.5, far
+/// 250, and a sun 15° above the horizon shining toward the camera (light direction nearly
+/// opposite the view direction): the duelling-frusta case at ground level, where the focus body
+/// is long, flat and seen almost edge-on by the light. Thin casters make undersampling visible
+/// (a 0.12 m slat is under a texel wide in much of a uniform map), and the grazing sun makes a
+/// too large depth bias visible as light leaking under every caster's base.
+pub fn thin_casters() -> Result<Scene, RenderError> {
+    let mut mb = MeshBuilder::default();
+    let mut rng = Rng(0x7416_CA57);
+    // The ground: a slab whose top face is y = 0 (the only receiver).
+    mb.begin(true);
+    mb.cuboid(
+        DVec3::new(-200.0, -2.0, -200.0),
+        DVec3::new(200.0, 0.0, 200.0),
+        [150, 158, 128],
+    );
+    mb.end();
+    let wood = [176, 140, 96];
+    let steel = [150, 150, 160];
+    // Rows across the view, from 6 m to ~220 m ahead of the camera (at z = −150), spaced in
+    // proportion to their distance and as wide as the view, so that casters and their long
+    // shadows (toward the camera) fill the image at every depth.
+    let mut d = 6.0f64;
+    let mut j = 0usize;
+    while d < 220.0 {
+        let half = (1.1 * d + 3.0f64).min(185.0);
+        let n = 7usize;
+        for i in 0..n {
+            let x = -half + (i as f64 + rng.range(0.2, 0.8)) * 2.0 * half / n as f64;
+            let z = -150.0 + d + rng.range(-0.2, 0.2) * d;
+            let yaw = rng.range(0.0, std::f64::consts::PI);
+            let ax = DVec3::new(yaw.cos(), 0.0, yaw.sin());
+            let az = DVec3::new(-yaw.sin(), 0.0, yaw.cos());
+            let at = |u: f64, y: f64, v: f64| DVec3::new(x, 0.0, z) + ax * u + DVec3::Y * y + az * v;
+            match (i * 3 + j) % 4 {
+                0 => {
+                    // A post.
+                    let (r, h) = (rng.range(0.08, 0.16), rng.range(2.0, 6.0));
+                    mb.begin(false);
+                    mb.oriented_box(at(0.0, 0.5 * h, 0.0), DVec3::new(r, 0.5 * h, r), ax, az, wood);
+                    mb.end();
+                }
+                1 => {
+                    // Two posts and a beam across their tops.
+                    let (span, h) = (rng.range(3.0, 6.0), rng.range(2.2, 3.5));
+                    mb.begin(false);
+                    for s in [-0.5, 0.5] {
+                        mb.oriented_box(
+                            at(s * span, 0.5 * h, 0.0),
+                            DVec3::new(0.1, 0.5 * h, 0.1),
+                            ax,
+                            az,
+                            steel,
+                        );
+                    }
+                    mb.oriented_box(
+                        at(0.0, h + 0.1, 0.0),
+                        DVec3::new(0.5 * span + 0.3, 0.1, 0.08),
+                        ax,
+                        az,
+                        steel,
+                    );
+                    mb.end();
+                }
+                2 => {
+                    // A fence: two rails and vertical slats 0.12 m wide, 0.14 m apart.
+                    let (len, h) = (rng.range(4.0, 8.0), rng.range(1.0, 1.6));
+                    mb.begin(false);
+                    for y in [0.3, h - 0.15] {
+                        mb.oriented_box(
+                            at(0.0, y, 0.0),
+                            DVec3::new(0.5 * len, 0.04, 0.03),
+                            ax,
+                            az,
+                            wood,
+                        );
+                    }
+                    let n = (len / 0.26) as i32;
+                    for k in 0..n {
+                        let u = -0.5 * len + (k as f64 + 0.5) * len / n as f64;
+                        mb.oriented_box(
+                            at(u, 0.5 * h, 0.06),
+                            DVec3::new(0.06, 0.5 * h, 0.015),
+                            ax,
+                            az,
+                            wood,
+                        );
+                    }
+                    mb.end();
+                }
+                _ => {
+                    // A crate, sometimes with a smaller one on top.
+                    let s = rng.range(0.4, 1.0);
+                    mb.begin(false);
+                    mb.oriented_box(at(0.0, s, 0.0), DVec3::splat(s), ax, az, [160, 110, 60]);
+                    if rng.range(0.0, 1.0) < 0.5 {
+                        let t = 0.6 * s;
+                        mb.oriented_box(
+                            at(0.1 * s, 2.0 * s + t, -0.1 * s),
+                            DVec3::splat(t),
+                            az,
+                            -ax,
+                            [170, 120, 70],
+                        );
+                    }
+                    mb.end();
+                }
+            }
+        }
+        d = d * 1.15 + 1.5;
+        j += 1;
+    }
+    let eye = DVec3::new(0.0, 1.7, -150.0);
+    let camera = CameraSpec {
+        eye,
+        forward: DVec3::new(0.0, -0.06, 1.0),
+        up: DVec3::Y,
+        fovy: deg(60.0),
+        near: 0.5,
+        far: 250.0,
+    };
+    // 15° above the horizon, travelling toward the camera, 5° off the view axis.
+    let (el, az) = (deg(15.0), deg(5.0));
+    let light = LightSpec::Directional {
+        direction: DVec3::new(el.cos() * az.sin(), -el.sin(), -el.cos() * az.cos()),
+    };
+    finish("thin-casters", mb, camera, light)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -729,6 +861,32 @@ mod tests {
             direction.normalize().dot(df.camera.forward.normalize()) < -0.8,
             "light faces the viewer"
         );
+        let tc = thin_casters().unwrap();
+        let ext = tc.bounds.max - tc.bounds.min;
+        assert!((ext.x - 400.0).abs() < 1e-9 && (ext.z - 400.0).abs() < 1e-9);
+        assert!(tc.objects[0].receiver && tc.objects[1..].iter().all(|o| !o.receiver));
+        assert!(tc.objects.len() > 100, "{} objects", tc.objects.len());
+        let c = tc.camera;
+        assert_eq!((c.near, c.far, c.eye.y), (0.5, 250.0, 1.7));
+        assert!((c.fovy - 60f64.to_radians()).abs() < 1e-12);
+        let LightSpec::Directional { direction } = tc.light else {
+            panic!()
+        };
+        let d = direction.normalize();
+        assert!(
+            (d.y + 15f64.to_radians().sin()).abs() < 1e-12,
+            "sun 15° above the horizon"
+        );
+        assert!(d.dot(c.forward.normalize()) < -0.9, "light faces the viewer");
+        // Thin casters: posts at most 0.32 m thick (0.46 m across their box when turned).
+        let thin = tc.objects[1..]
+            .iter()
+            .filter(|o| {
+                let e = o.aabb.max - o.aabb.min;
+                e.x.max(e.z) < 0.5
+            })
+            .count();
+        assert!(thin > 25, "{thin} posts");
     }
 
     #[test]

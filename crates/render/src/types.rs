@@ -367,10 +367,18 @@ pub struct EyeBlur {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum DepthMode {
-    /// The map's own projective z, with wgpu's constant + slope-scaled `DepthBiasState`
-    /// (`constant` in units of the smallest resolvable depth step, `slope_scale` × max depth slope).
-    /// The bias is negated for `DepthTest::Greater` maps so it always points away from the light.
-    Projective { constant: i32, slope_scale: f32 },
+    /// The map's own projective z. With `receiver_plane` (the default) each map gets its own bias,
+    /// chosen per fragment in the main pass from the map's texel footprint and depth derivative on
+    /// the receiver's plane (receiver-plane depth bias: see `shadow_lookup` in `scene.wgsl` for the
+    /// derivation), plus a constant term of a few steps of the depth format. `constant` and
+    /// `slope_scale` add wgpu's `DepthBiasState` to the casters on top of that (`constant` in units
+    /// of the smallest resolvable depth step, `slope_scale` × max depth slope per texel); they are 0
+    /// by default. Both point away from the light, for `DepthTest::Greater` maps too.
+    Projective {
+        constant: i32,
+        slope_scale: f32,
+        receiver_plane: bool,
+    },
     /// Linear light depth (practical paper §4.2): distance along the light direction (directional)
     /// or from the light (point, spot), normalised over the scene bounds, written per fragment and
     /// compared with "less" whatever the map's projective depth test. Bias = `constant` +
@@ -415,7 +423,8 @@ impl Default for RenderSettings {
             shadow_resolution: 1024,
             depth: DepthMode::Projective {
                 constant: 0,
-                slope_scale: 2.0,
+                slope_scale: 0.0,
+                receiver_plane: true,
             },
             pcf: Pcf::Hardware2x2,
             blend_band: 0.0,

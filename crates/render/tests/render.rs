@@ -274,10 +274,7 @@ fn filtering_blending_blur_and_linear_depth_keep_shadows_correct() {
             Pcf::Kernel { radius: 1 },
             0.15,
             None,
-            DepthMode::Projective {
-                constant: 0,
-                slope_scale: 2.0,
-            },
+            RenderSettings::default().depth,
         ),
         (
             "no pcf, linear depth",
@@ -298,10 +295,7 @@ fn filtering_blending_blur_and_linear_depth_keep_shadows_correct() {
                 max_radius_px: 6.0,
                 iterations: 2,
             }),
-            DepthMode::Projective {
-                constant: 0,
-                slope_scale: 2.0,
-            },
+            RenderSettings::default().depth,
         ),
     ];
     for (label, pcf, band, blur, depth) in variants {
@@ -619,4 +613,73 @@ fn a_receiver_facing_the_light_on_the_maps_near_plane_does_not_shadow_itself() {
         }
         std::fs::remove_dir_all(&dir).ok();
     }
+}
+
+#[test]
+fn thin_casters_get_right_shadows_wherever_the_maps_resolve_them() {
+    // A low sun ahead of an eye-height viewer over a 400 m ground: four parallel splits.
+    let scene = builtin_scene("thin-casters").unwrap();
+    let (w, h) = (240, 135);
+    let maps = testfit::split_maps(&scene, &scene.camera, &scene.light, aspect(w, h), 4).unwrap();
+    let util = vec![0.5; maps.len()];
+    let mut req = RenderRequest::new(&scene, &maps);
+    req.utilisation = &util;
+    small(&mut req, w, h, 1024);
+    let Some(out) = render(&req) else { return };
+    let m = out.metrics.mismatch.unwrap();
+    eprintln!("thin-casters: {m:?}");
+    assert!(out.metrics.coverage.complete, "{:?}", out.metrics.coverage);
+    assert!(m.adequate_pixels > 2_000, "too few adequately sampled pixels to judge: {m:?}");
+    assert!(m.rate_adequate <= 0.005, "adequately sampled pixels wrong: {m:?}");
+    let truth = out.truth.as_ref().unwrap();
+    let occluded = truth.iter().filter(|v| **v == Visibility::Occluded).count();
+    assert!(occluded > 1_000, "the view shows shadows: {occluded} pixels");
+    assert_eq!(out.metrics.map_utilisation, util);
+    assert_eq!(out.metrics.utilisation_mean, Some(0.5));
+}
+
+#[test]
+fn receiver_plane_bias_removes_acne_without_leaking() {
+    // The huge board under a 21° sun: with no bias at all the ground shadows itself; the
+    // per-map receiver-plane bias must leave the adequately sampled pixels right, with every
+    // filter, kernel taps up to three texels away included.
+    let scene = builtin_scene("huge-chessboard").unwrap();
+    let (w, h) = (224, 126);
+    let maps = testfit::split_maps(&scene, &scene.camera, &scene.light, aspect(w, h), 3).unwrap();
+    let mut req = RenderRequest::new(&scene, &maps);
+    small(&mut req, w, h, 1024);
+    req.settings.depth = DepthMode::Projective {
+        constant: 0,
+        slope_scale: 0.0,
+        receiver_plane: false,
+    };
+    let Some(none) = render(&req) else { return };
+    let none = none.metrics.mismatch.unwrap();
+    eprintln!("no bias: {none:?}");
+    assert!(
+        none.rate_adequate > 0.05 && none.false_shadow > 5 * none.false_light,
+        "without a bias the ground must shadow itself: {none:?}"
+    );
+    for pcf in [Pcf::Off, Pcf::Hardware2x2, Pcf::Kernel { radius: 2 }] {
+        req.settings.pcf = pcf;
+        req.settings.depth = RenderSettings::default().depth;
+        let m = render(&req).unwrap().metrics.mismatch.unwrap();
+        eprintln!("{pcf:?}: {m:?}");
+        assert!(m.adequate_pixels > 2_000, "{pcf:?}: {m:?}");
+        assert!(m.rate_adequate <= 0.005, "{pcf:?}: {m:?}");
+    }
+}
+
+#[test]
+fn utilisation_must_match_the_maps() {
+    let scene = builtin_scene("inverted").unwrap();
+    let maps = [testfit::scene_box_map(&scene, &scene.camera, &scene.light, 16.0 / 9.0).unwrap()];
+    let mut req = RenderRequest::new(&scene, &maps);
+    assert!(req.validate().is_ok());
+    req.utilisation = &[0.3, 0.4];
+    assert!(matches!(req.validate(), Err(RenderError::Invalid { .. })));
+    req.utilisation = &[1.5];
+    assert!(matches!(req.validate(), Err(RenderError::Invalid { .. })));
+    req.utilisation = &[0.3];
+    assert!(req.validate().is_ok());
 }

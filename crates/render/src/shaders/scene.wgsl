@@ -19,7 +19,8 @@ struct Frame {
     lin_b: vec4<f32>,
     // x = map count, y = shadow resolution, z = pcf (0 off, 1 hardware, 2 kernel), w = kernel radius
     params: vec4<f32>,
-    // x = blend band (fraction of split length)
+    // x = blend band (fraction of split length), y = receiver-plane bias on (1) / off (0),
+    // z = its constant term (map depth units), w = largest tan θ its slope term follows
     params2: vec4<f32>,
     maps: array<MapInfo, MAX_MAPS>,
 };
@@ -84,36 +85,128 @@ fn depth_rounding(m: mat4x4<f32>, p: vec3<f32>, z: f32, w: f32) -> f32 {
     return 8.0 * u * (ez + abs(z) * ew) / w;
 }
 
-// Fraction of the light reaching p according to map i (1 = lit).
-fn shadow_lookup(i: u32, p: vec3<f32>) -> f32 {
-    let c = f.maps[i].world_to_clip * vec4<f32>(p, 1.0);
+// The per-map depth bias: how the reference depth of a receiver at p (unit normal n) changes per
+// texel of map i on the receiver's own plane, g = (∂r/∂u, ∂r/∂v) in the map's depth units per
+// texel (r = z, or 1 − z for a "greater" map, so that smaller r is nearer the light).
+//
+// Derivation. A receiver plane tilted by θ to the light ray moves along the ray by τ·tan θ
+// across one texel of world size τ (the texel's footprint at the receiver); the map stores the
+// plane's depth at texel centres, and a lookup compares against centres up to one texel away
+// (bilinear PCF) or half a texel (nearest), so the test must tolerate the plane's depth change
+// over each tap's offset, plus the depth quantisation. In the map's depth units that change is
+// (τ·tan θ)·∂z/∂ℓ per texel for an orthographic map (∂z/∂ℓ = 1 / depth range); for perspective
+// and warped maps (PSM, LiSPSM, TSM) τ and ∂z/∂ℓ vary over the map, and the exact form is the
+// chain rule: with J = ∂(u, v, z)/∂p at p (rows a, b, c; u, v in texels), the receiver's tangent
+// plane maps to the plane n' = J⁻ᵀ n in (u, v, z), so Δz = g·(Δu, Δv) with
+//   g_u = −n·(b × c) / n·(a × b),  g_v = −n·(c × a) / n·(a × b),
+// where a × b is the map's ray direction ℓ (u, v constant along it) and |n·ℓ̂| = cos θ: |g| is
+// tan θ times the texel's depth extent τ·∂z/∂ℓ. Projective maps take planes to planes in
+// (u, v, z) and rasterise z affinely there, so this is exact for every map kind: the depth stored
+// at a texel centre δ texels from the lookup is r + g·δ wherever the receiver itself is the
+// nearest surface there. Each tap is therefore compared against its own reference r + g·δ
+// (`plane_taps`), less a bias of 1/16 texel of slope, (|g_u| + |g_v|)/16, for the sub-texel
+// precision of rasterisation (vertices snap to at least 1/16 texel), and a constant term for the
+// depth format (params2.z). No larger bias is needed, so light leaks at contacts stay within that
+// sixteenth of a texel. The tilt is capped at tan θ = params2.w.
+fn plane_slope(m: mat4x4<f32>, c: vec4<f32>, n: vec3<f32>, greater: bool) -> vec2<f32> {
+    let k = 1.0 / (c.w * c.w);
+    let hr = 0.5 * f.params.y;
+    let mx = vec3<f32>(m[0].x, m[1].x, m[2].x);
+    let my = vec3<f32>(m[0].y, m[1].y, m[2].y);
+    let mz = vec3<f32>(m[0].z, m[1].z, m[2].z);
+    let mw = vec3<f32>(m[0].w, m[1].w, m[2].w);
+    // u = res·(0.5 + 0.5 x/w), v = res·(0.5 − 0.5 y/w): texel coordinates, rows top to bottom.
+    let a = (hr * k) * (mx * c.w - c.x * mw);
+    let b = (-hr * k) * (my * c.w - c.y * mw);
+    var dz = k * (mz * c.w - c.z * mw);
+    if (greater) {
+        dz = -dz;
+    }
+    let l = cross(a, b);
+    let nl = dot(n, l);
+    let tmax = f.params2.w;
+    let lim = length(l) * inverseSqrt(1.0 + tmax * tmax);
+    let den = select(-1.0, 1.0, nl >= 0.0) * max(abs(nl), lim);
+    let g = -vec2<f32>(dot(n, cross(b, dz)), dot(n, cross(dz, a))) / den;
+    // A degenerate map (zero Jacobian) gets no slope term.
+    return select(vec2<f32>(0.0), g, abs(g) < vec2<f32>(3.0e38));
+}
+
+// Bilinear PCF with receiver-plane references: the four texel centres around st + o (texel
+// coordinates, o an integer offset), each compared (nearest sampler) against the receiver's plane
+// at that centre, weighted bilinearly.
+fn plane_taps(i: u32, st: vec2<f32>, o: vec2<f32>, r: f32, g: vec2<f32>, bias: f32) -> f32 {
+    let base = floor(st - 0.5) + 0.5;
+    let t = st - base;
+    let inv = 1.0 / f.params.y;
+    var sum = 0.0;
+    for (var dy = 0; dy < 2; dy = dy + 1) {
+        for (var dx = 0; dx < 2; dx = dx + 1) {
+            let e = vec2<f32>(f32(dx), f32(dy));
+            let centre = base + e + o;
+            let v = compare_tap(i, centre * inv, r + dot(g, centre - st) - bias);
+            let w = mix(1.0 - t, t, e);
+            sum = sum + w.x * w.y * v;
+        }
+    }
+    return sum;
+}
+
+// Fraction of the light reaching p (receiver unit normal n) according to map i (1 = lit).
+fn shadow_lookup(i: u32, p: vec3<f32>, n: vec3<f32>) -> f32 {
+    let m = f.maps[i].world_to_clip;
+    let c = m * vec4<f32>(p, 1.0);
     let ndc = c.xyz / c.w;
     let uv = vec2<f32>(0.5 + 0.5 * ndc.x, 0.5 - 0.5 * ndc.y);
+    let res = f.params.y;
+    let mode = u32(f.params.z);
+    let k = i32(f.params.w);
+    let texel = 1.0 / res;
     var r: f32;
     if (f.lin_b.x > 0.5) {
         r = linear_depth(p);
     } else {
+        let greater = f.maps[i].split.z > 0.5;
         // NOTE: the clamp keeps receivers on the map's far face (z = 1 up to rounding) from being
         // compared against the cleared value 1 and shadowing themselves.
         r = clamp(ndc.z, 0.0, 1.0);
-        if (f.maps[i].split.z > 0.5) {
+        if (greater) {
             r = 1.0 - r;
         }
-        r = r - depth_rounding(f.maps[i].world_to_clip, p, ndc.z, c.w);
+        r = r - depth_rounding(m, p, ndc.z, c.w);
+        if (f.params2.y > 0.5) {
+            // Receiver-plane bias; the sampler is the nearest one (see `Renderer::render`).
+            let g = plane_slope(m, c, n, greater);
+            let bias = f.params2.z + 0.0625 * (abs(g.x) + abs(g.y));
+            let st = uv * res;
+            if (mode == 0u) {
+                let centre = floor(st) + 0.5;
+                return compare_tap(i, centre * texel, r + dot(g, centre - st) - bias);
+            }
+            if (mode == 1u) {
+                return plane_taps(i, st, vec2<f32>(0.0), r, g, bias);
+            }
+            var sum = 0.0;
+            for (var y = -k; y <= k; y = y + 1) {
+                for (var x = -k; x <= k; x = x + 1) {
+                    sum = sum + plane_taps(i, st, vec2<f32>(f32(x), f32(y)), r, g, bias);
+                }
+            }
+            let nk = f32(2 * k + 1);
+            return sum / (nk * nk);
+        }
     }
-    if (u32(f.params.z) < 2u) {
+    if (mode < 2u) {
         return compare_tap(i, uv, r);
     }
-    let k = i32(f.params.w);
-    let texel = 1.0 / f.params.y;
     var sum = 0.0;
     for (var y = -k; y <= k; y = y + 1) {
         for (var x = -k; x <= k; x = x + 1) {
             sum = sum + compare_tap(i, uv + vec2<f32>(f32(x), f32(y)) * texel, r);
         }
     }
-    let n = f32(2 * k + 1);
-    return sum / (n * n);
+    let nk = f32(2 * k + 1);
+    return sum / (nk * nk);
 }
 
 // Screen pixels per shadow texel: e = 1/sqrt(|det ∂t/∂(x,y)|), t = texcoord × resolution.
@@ -172,7 +265,7 @@ fn fs(in: VsOut) -> GOut {
     var e = -1.0;
     if (chosen >= 0) {
         let i = u32(chosen);
-        vis = shadow_lookup(i, p);
+        vis = shadow_lookup(i, p, n);
         e = aliasing(i, p, dx, dy);
         // Blend band: over the last fraction of this split, fade into the next map that covers p.
         let band = f.params2.x;
@@ -182,7 +275,7 @@ fn fs(in: VsOut) -> GOut {
             for (var j = i + 1u; j < count; j = j + 1u) {
                 if (map_contains(j, p)) {
                     let t = clamp((depth - (s.y - len)) / len, 0.0, 1.0);
-                    vis = mix(vis, shadow_lookup(j, p), t);
+                    vis = mix(vis, shadow_lookup(j, p, n), t);
                     break;
                 }
             }

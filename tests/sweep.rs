@@ -1,0 +1,140 @@
+//! The light sweep as a test: a directional light over elevations ×
+//! azimuths around the view direction of two built-in scenes (thin casters
+//! at eye height, and the duelling-frusta plain), every method rendered
+//! against ray-traced ground truth at each configuration. Two invariants
+//! must hold in every configuration:
+//!
+//! (a) where the map resolves the shadow (pixels away from shadow edges with
+//!     at most 2 screen pixels per texel), at most 0.5 % of pixels are wrong
+//!     (judged where there are at least `MIN_ADEQUATE_PIXELS` = 400 of them);
+//! (b) LiSPSM's and TSM's p95 and maximum aliasing are within 1.1× of the
+//!     uniform map's at the same configuration, and PSM's too unless its fit
+//!     reports that it fell back to a uniform map.
+//!
+//! Each sweep's table, plots and worst configurations are written under
+//! Cargo's temporary folder for integration tests (the failure message
+//! names it).
+
+use shadowfocus::cli::sweep::{self, parse_sweep_method, Sweep, SweepPlan, ADEQUATE_LIMIT, MIN_ADEQUATE_PIXELS};
+use shadowfocus::render::{builtin_scene, Renderer};
+use std::path::PathBuf;
+use std::sync::Mutex;
+
+const SIZE: (u32, u32) = (320, 180);
+const RES: u32 = 1024;
+const ELEVATIONS: [f64; 2] = [12.0, 35.0];
+const AZIMUTHS: [f64; 6] = [0.0, 60.0, 120.0, 180.0, 240.0, 300.0];
+const METHODS: [&str; 5] = ["uniform", "psm", "lispsm", "tsm", "lispsm4"];
+/// Largest p95 and maximum aliasing of a warped map over the uniform one's.
+const WARP_LIMIT: f64 = 1.1;
+
+static RENDERER: Mutex<Option<Renderer>> = Mutex::new(None);
+
+fn out_dir(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("sweep").join(name)
+}
+
+/// Sweeps `name` over `elevations` × `azimuths` with `methods` and writes
+/// the results (with `worst` configurations re-rendered) into its folder.
+fn run(name: &str, elevations: &[f64], azimuths: &[f64], methods: &[&str], size: (u32, u32), worst: usize) -> Sweep {
+    let mut guard = RENDERER.lock().unwrap_or_else(|e| e.into_inner());
+    let renderer = guard.get_or_insert_with(|| Renderer::from_env().expect("a wgpu adapter (llvmpipe on a fresh machine)"));
+    let scene = builtin_scene(name).unwrap();
+    let methods = methods.iter().map(|m| parse_sweep_method(m).unwrap()).collect();
+    let plan = SweepPlan::grid(scene.camera, elevations, azimuths, methods, RES, size);
+    let result = sweep::sweep(renderer, &scene, &plan, |_, _, _| {}).unwrap();
+    let _ = std::fs::remove_dir_all(out_dir(name));
+    sweep::write(&out_dir(name), renderer, &scene, &result, worst).unwrap();
+    result
+}
+
+/// Every configuration that breaks (a) or (b), described.
+fn violations(s: &Sweep) -> Vec<String> {
+    let mut v = Vec::new();
+    for r in &s.rows {
+        let m = &r.mismatch;
+        if m.adequate_pixels >= MIN_ADEQUATE_PIXELS && !(m.rate_adequate <= ADEQUATE_LIMIT) {
+            v.push(format!(
+                "{}: {:.2} % of {} adequately sampled pixels wrong (limit {:.1} %; off edges {:.2} %)",
+                r.label(),
+                100.0 * m.rate_adequate,
+                m.adequate_pixels,
+                100.0 * ADEQUATE_LIMIT,
+                100.0 * m.rate_off_edges
+            ));
+        }
+        let judged = match r.method.as_str() {
+            "lispsm" | "tsm" => true,
+            "psm" => !r.has_note("psm_fell_back_to_uniform"),
+            _ => false,
+        };
+        if judged {
+            for (what, ratio) in [("p95", r.p95_ratio), ("max", r.max_ratio)] {
+                if !(ratio <= WARP_LIMIT) {
+                    v.push(format!("{}: {what} aliasing {ratio:.3}× uniform's (limit {WARP_LIMIT}; p95 {:.2}, max {:.2})", r.label(), r.aliasing.p95, r.aliasing.max));
+                }
+            }
+        }
+    }
+    v
+}
+
+fn check(name: &str) {
+    let t = std::time::Instant::now();
+    let s = run(name, &ELEVATIONS, &AZIMUTHS, &METHODS, SIZE, 8);
+    assert_eq!(s.rows.len(), ELEVATIONS.len() * AZIMUTHS.len() * METHODS.len());
+    for r in &s.rows {
+        assert!(r.aliasing.pixels > 0 && r.aliasing.p95.is_finite(), "{name} {}: no aliasing samples", r.label());
+    }
+    let v = violations(&s);
+    eprintln!("{name}: {} configurations in {:.1} s, {} violations", s.rows.len(), t.elapsed().as_secs_f64(), v.len());
+    assert!(
+        v.is_empty(),
+        "{name} at {}x{}, {RES}²: {} violations in {} configurations (table, plots and worst configurations in {}):\n{}",
+        SIZE.0,
+        SIZE.1,
+        v.len(),
+        s.rows.len(),
+        out_dir(name).display(),
+        v.join("\n")
+    );
+}
+
+#[test]
+fn thin_casters_sweep_has_right_shadows_and_warps_no_worse_than_uniform() {
+    check("thin-casters");
+}
+
+#[test]
+fn duelling_frusta_sweep_has_right_shadows_and_warps_no_worse_than_uniform() {
+    check("duelling-frusta");
+}
+
+#[test]
+fn sweep_writes_its_table_plots_and_contact_sheet() {
+    let s = run("forest", &[35.0], &[0.0, 180.0], &["uniform", "lispsm"], (96, 54), 2);
+    let dir = out_dir("forest");
+    let csv = std::fs::read_to_string(dir.join("sweep.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 4, "a header and one row per configuration");
+    assert!(csv.lines().skip(1).all(|l| l.starts_with("forest,")));
+    let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("sweep.json")).unwrap()).unwrap();
+    let configs = json["configurations"].as_array().unwrap();
+    assert_eq!(configs.len(), 4);
+    for (c, r) in configs.iter().zip(&s.rows) {
+        assert_eq!(c["method"], r.method.as_str());
+        assert_eq!(c["aliasing"]["p95"].as_f64(), Some(r.aliasing.p95));
+        if r.method == "uniform" {
+            assert_eq!(c["ratio_to_uniform"]["p95"].as_f64(), Some(1.0));
+        } else {
+            let u = &s.rows[r.light_index * 2];
+            assert_eq!(c["ratio_to_uniform"]["max"].as_f64(), Some(r.aliasing.max / u.aliasing.max));
+        }
+    }
+    assert_eq!(json["worst"].as_array().unwrap().len(), 2);
+    for f in ["aliasing_p95.png", "mismatch_off_edges.png", "mismatch_adequate.png", "worst.png"] {
+        let bytes = std::fs::read(dir.join(f)).unwrap();
+        assert_eq!(&bytes[1..4], b"PNG", "{f}");
+    }
+    let folders = std::fs::read_dir(dir.join("worst")).unwrap().count();
+    assert_eq!(folders, 2, "each worst configuration rendered in full");
+}
