@@ -58,7 +58,7 @@ pub fn fit_frame(scene: &Scene, frame: &Frame, aspect: f64, settings: &FocusSett
     let mut specs = Vec::new();
     let mut utilisation = Vec::new();
     for m in result.maps().iter().filter(|m| m.is_active()) {
-        utilisation.push(m.utilisation);
+        utilisation.push(m.utilisation());
         let n = cull_casters(m, &boxes, &mut idx);
         specs.push(ShadowMapSpec {
             world_to_clip: m.matrix_f32,
