@@ -44,7 +44,7 @@ pub fn fit_scene(scene: &Scene, aspect: f64, settings: &FocusSettings) -> Result
     let mut idx = vec![0u32; boxes.len()];
     let mut specs = Vec::new();
     for m in result.maps().iter().filter(|m| m.is_active()) {
-        let n = cull_casters(m, &boxes, &mut idx);
+        let n = cull_casters(m, &boxes, &mut idx).map_err(|e| e.to_string())?;
         specs.push(ShadowMapSpec {
             world_to_clip: m.matrix_f32,
             depth_test: match m.depth_test {

@@ -69,7 +69,7 @@
 //! let mut visible = [0u32; 1];
 //! for map in frame.maps().iter().filter(|m| m.is_active()) {
 //!     let _upload: [f32; 16] = map.matrix_f32.to_cols_array();
-//!     let n = cull_casters(map, &casters, &mut visible);
+//!     let n = cull_casters(map, &casters, &mut visible)?;
 //!     // render casters visible[..n] into the map with map.depth_test …
 //!     # let _ = n;
 //! }
