@@ -99,7 +99,7 @@ pub use error::FocusError;
 pub use fit::{fit, fit_map, fit_prepared, MapFit, PreparedView};
 pub use frame::S0 as ORIENTATION_BLEND_SIN;
 pub use result::{CubeFace, DepthTest, FocusResult, MapState, Notes, ShadowMap, Skipped};
-pub use settings::{FocusSettings, LispsmSettings, Method, PointMode, PsmSettings, SplitScheme, SplitSettings, TsmSettings, WarpDirection};
+pub use settings::{FocusSettings, LightNear, LispsmSettings, Method, PointMode, PsmSettings, SplitScheme, SplitSettings, TsmSettings, WarpDirection};
 pub use splits::{clip_depth, split_depths};
 
 /// Most parallel splits.

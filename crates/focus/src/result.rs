@@ -108,8 +108,9 @@ pub struct ShadowMap {
     /// Fraction of the map's area `[−1, 1]²` that the projection of its
     /// body covers (0 for an empty map): how many texels the fit uses.
     pub utilisation: f64,
-    /// For point and spot lights, the distance `r` from the light within
-    /// which casters may be left out of this map; 0 for directional lights.
+    /// For point lights, the distance `r` from the light within which
+    /// casters may be left out of this map (see [`crate::LightNear`]); 0
+    /// where the map leaves nothing out (directional and spot lights).
     pub light_near: f64,
     /// The light this map projects from (a cube face's 90° spot for
     /// omnidirectional lights).

@@ -239,7 +239,11 @@ fn invalid_input_is_a_typed_error() {
         FocusSettings { splits: SplitSettings { scheme: SplitScheme::Practical { lambda: 1.5 }, ..Default::default() }, ..s },
         FocusSettings { splits: SplitSettings { delta_bias: f64::NAN, ..Default::default() }, ..s },
         FocusSettings { resolution: 2, ..s },
-        FocusSettings { light_near: 0.0, ..s },
+        FocusSettings { light_near: LightNear::Fixed(0.0), ..s },
+        FocusSettings { light_near: LightNear::Fixed(f64::INFINITY), ..s },
+        FocusSettings { light_near: LightNear::Auto { fraction: 0.0 }, ..s },
+        FocusSettings { light_near: LightNear::Auto { fraction: 1.0 }, ..s },
+        FocusSettings { light_near: LightNear::Auto { fraction: f64::NAN }, ..s },
         FocusSettings { lispsm: LispsmSettings { visible_far: Some(-1.0), ..Default::default() }, ..s },
         FocusSettings { tsm: TsmSettings { focus: 0.0 }, ..s },
     ] {
@@ -301,11 +305,20 @@ fn maps_hold_bodies_where_w_is_below_its_rounding_bound() {
 fn point_light_modes() {
     let cam = camera();
     let scene = scene();
-    // Outside the view, inside the scene: one truncated map.
-    let l = DVec3::new(30.0, 15.0, 15.0);
+    // Outside the view, inside the scene, H seen over a cone narrower than
+    // a cube face's: one truncated map.
+    let l = DVec3::new(-49.0, 1.0, 19.0);
     let out = fit1(&cam, &Light::point(l).unwrap(), &scene, &FocusSettings::default());
     assert_eq!(out.maps().len(), 1);
     assert!(matches!(out.maps()[0].light, Light::Spot { .. }) && out.notes.contains(Notes::LIGHT_NEAR));
+    assert!(!out.notes.contains(Notes::POINT_AS_CUBE));
+    // Outside the view, inside the scene, H around the light over a cone
+    // wider than a cube face's: six faces rather than a map cut so near
+    // the light that it would drop points farther than r.
+    let l = DVec3::new(30.0, 15.0, 15.0);
+    let out = fit1(&cam, &Light::point(l).unwrap(), &scene, &FocusSettings::default());
+    assert_eq!(out.maps().len(), 6);
+    assert!(out.notes.contains(Notes::POINT_AS_CUBE) && out.notes.contains(Notes::LIGHT_NEAR));
     // Inside the view frustum: six faces.
     let l = DVec3::new(0.0, 2.0, -20.0);
     let out = fit1(&cam, &Light::point(l).unwrap(), &scene, &FocusSettings::default());

@@ -85,8 +85,10 @@ fn check_frame(cam: &Camera, light: &Light, scene: &Aabb, s: &FocusSettings, out
         }
         let i = (0..s.splits.count).find(|&i| d[i] <= z && z <= d[i + 1]).unwrap();
         let covered = out.maps().iter().filter(|m| m.split == i && m.is_active()).any(|m| inside_f64(&m.matrix, p));
+        // Within the split's r of a point light (the maps' light_near).
+        let r = out.maps().iter().filter(|m| m.split == i).map(|m| m.light_near).fold(0.0, f64::max);
         let near_light = match light {
-            Light::Point { position } => (p - *position).abs().max_element() < s.light_near * 1.001,
+            Light::Point { position } => (p - *position).length() <= r,
             _ => false,
         };
         let in_spot = match light {
@@ -96,8 +98,8 @@ fn check_frame(cam: &Camera, light: &Light, scene: &Aabb, s: &FocusSettings, out
         prop_assert!(covered || near_light || !in_spot, "visible point {p} at depth {z} not in split {i}'s map");
     }
 
-    // Point lights: the untruncated H outside the light's near cube is
-    // covered (cube faces: by some face; single map: by the map).
+    // Point lights: every vertex of the untruncated H_i farther than the
+    // split's r from the light is in some active map of the split.
     if let Light::Point { position: l } = *light {
         for i in 0..s.splits.count {
             if d[i] >= d[i + 1] {
@@ -105,22 +107,13 @@ fn check_frame(cam: &Camera, light: &Light, scene: &Aabb, s: &FocusSettings, out
             }
             let sub = split_camera(cam, [d[i], d[i + 1]]);
             let h0 = focus_body(&Frustum::from_camera(&sub).unwrap(), light, scene).unwrap();
+            let r = point_light_radius(out, i)?;
             let maps: Vec<&ShadowMap> = out.maps().iter().filter(|m| m.split == i && m.is_active()).collect();
             for v in h0.vertices() {
-                if (*v - l).abs().max_element() < s.light_near * (1.0 + 1e-9) {
+                if (*v - l).length() <= r {
                     continue;
                 }
-                if let [single] = maps.as_slice() {
-                    if let Light::Spot { frustum, .. } = single.light {
-                        // Truncated at `light_near` along the spot's axis.
-                        let c = frustum.corners();
-                        let axis = ((c[4] + c[5] + c[6] + c[7]) * 0.25 - l).normalize();
-                        if axis.dot(*v - l) < s.light_near * (1.0 + 1e-9) {
-                            continue;
-                        }
-                    }
-                }
-                prop_assert!(maps.iter().any(|m| inside_f64(&m.matrix, *v)), "H vertex {v} of split {i} in no map");
+                prop_assert!(maps.iter().any(|m| inside_f64(&m.matrix, *v)), "H vertex {v} of split {i} ({} from the light, r = {r}) in no map", (*v - l).length());
             }
         }
     }

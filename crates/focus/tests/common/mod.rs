@@ -156,3 +156,18 @@ pub fn ndc(map: &ShadowMap, p: DVec3) -> DVec3 {
     let z = q.z / q.w;
     DVec3::new(q.x / q.w, q.y / q.w, if map.depth_test == DepthTest::Greater { 1.0 - z } else { z })
 }
+
+/// The r of split `i` of a point light's frame: every map of the split
+/// reports the same one, positive for a split with a cut (a truncated or
+/// cube-face map), and 0 only for a single map that cuts nothing.
+pub fn point_light_radius(out: &FocusResult, i: usize) -> Result<f64, TestCaseError> {
+    let maps: Vec<&ShadowMap> = out.maps().iter().filter(|m| m.split == i).collect();
+    prop_assert!(!maps.is_empty(), "split {i} has no map");
+    let r = maps[0].light_near;
+    prop_assert!(maps.iter().all(|m| m.light_near == r), "split {i}: maps report different r");
+    prop_assert!(r.is_finite() && r >= 0.0);
+    if r == 0.0 {
+        prop_assert!(maps.len() == 1 && matches!(maps[0].light, Light::Point { .. }), "split {i}: r = 0 for a map that cuts");
+    }
+    Ok(r)
+}
