@@ -70,7 +70,7 @@ fn fitting_a_frame_does_not_allocate() {
                         fit(&cam, light, &scene, &s, out).unwrap();
                         let a1 = allocations();
                         for m in out.maps() {
-                            cull_casters(m, &casters, &mut idx);
+                            cull_casters(m, &casters, &mut idx).unwrap();
                         }
                         let a2 = allocations();
                         let exact_engine = out.maps().iter().filter(|m| !m.body().stats().float_path).count();

@@ -32,7 +32,8 @@ fn check(body: &Body, scene: &Aabb, tol: f64) {
         Dimension::Segment => assert!(n == 2 && faces == 0),
         Dimension::Polygon => {
             assert!(n >= 3 && faces == 1, "polygon with {n} vertices and {faces} faces");
-            assert_eq!(body.face(0).len(), n);
+            assert_eq!(body.face(0).map(<[u16]>::len), Some(n));
+            assert!(body.face(faces).is_none());
         }
         Dimension::Solid => {
             assert!(n >= 4 && faces >= 4, "solid with {n} vertices and {faces} faces");

@@ -64,7 +64,7 @@ fn clip_checked(p: &mut Polytope, plane: &PlaneIn) -> bool {
 
 fuzz_target!(|input: Input| {
     let Some(start) = boxed(&input.min, &input.max) else { return };
-    let mut p = Polytope::from_aabb(&start);
+    let mut p = Polytope::from_aabb(&start).expect("boxed() validates its box");
     for op in input.ops.iter().take(12) {
         match op {
             Op::Clip(plane) => {
@@ -92,14 +92,14 @@ fuzz_target!(|input: Input| {
                     assert!(inside, "intersect_aabb grew the polytope");
                 }
                 if Aabb::new(b.min, b.max).is_ok() {
-                    if let Some(inside) = contains(&Polytope::from_aabb(&b), &p) {
+                    if let Some(inside) = contains(&Polytope::from_aabb(&b).expect("a validated box"), &p) {
                         assert!(inside, "P ∩ box is not inside the box");
                     }
                 }
             }
             Op::Intersect { min, max, planes } => {
                 let Some(b) = boxed(min, max) else { continue };
-                let mut other = Polytope::from_aabb(&b);
+                let mut other = Polytope::from_aabb(&b).expect("boxed() validates its box");
                 let planes: Vec<_> = planes.iter().take(8).map(PlaneIn::build).collect();
                 if other.clip_all(&planes).is_err() {
                     continue;
@@ -155,7 +155,7 @@ fuzz_target!(|input: Input| {
             }
             Op::Reset(min, max) => {
                 if let Some(b) = boxed(min, max) {
-                    p.reset_to_aabb(&b);
+                    p.reset_to_aabb(&b).expect("boxed() validates its box");
                     for c in [b.min, b.max] {
                         assert!(p.contains_point(c), "a box lost its corner");
                     }

@@ -59,7 +59,7 @@ pub fn fit_frame(scene: &Scene, frame: &Frame, aspect: f64, settings: &FocusSett
     let mut utilisation = Vec::new();
     for m in result.maps().iter().filter(|m| m.is_active()) {
         utilisation.push(m.utilisation());
-        let n = cull_casters(m, &boxes, &mut idx);
+        let n = cull_casters(m, &boxes, &mut idx).map_err(|e| e.to_string())?;
         specs.push(ShadowMapSpec {
             world_to_clip: m.matrix_f32,
             depth_test: match m.depth_test {

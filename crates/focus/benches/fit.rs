@@ -89,7 +89,7 @@ fn bench(c: &mut Criterion) {
     for (lname, light) in &lights {
         let s = FocusSettings { splits: SplitSettings { count: 4, ..Default::default() }, ..FocusSettings::default() };
         fit(&cam, light, &scene, &s, &mut out).unwrap();
-        let kept: usize = out.maps().iter().filter(|m| m.is_active()).map(|m| cull_casters(m, &casters, &mut idx)).sum();
+        let kept: usize = out.maps().iter().filter(|m| m.is_active()).map(|m| cull_casters(m, &casters, &mut idx).unwrap()).sum();
         let maps = out.maps().iter().filter(|m| m.is_active()).count();
         eprintln!("cull/{lname}: {} maps, kept {kept} of {} caster-map pairs", maps, maps * casters.len());
         let map = out.maps()[0].clone();

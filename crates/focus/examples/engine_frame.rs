@@ -75,7 +75,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     println!("  {name} split {}: empty, not rendered", map.split);
                     continue;
                 }
-                let n = cull_casters(map, &casters, &mut caster_ids);
+                let n = cull_casters(map, &casters, &mut caster_ids)?;
                 // An engine uploads `map.matrix_f32` (world → clip, z in [0, 1])
                 // and sets its depth compare from `map.depth_test`, then draws
                 // the casters `caster_ids[..n]` into this map.

@@ -31,6 +31,7 @@
 //! keep a box that misses `R` near an edge (edge–edge separating axes are
 //! not tried).
 
+use crate::error::FocusError;
 use crate::methods::light_point;
 use crate::result::ShadowMap;
 use glam::{DVec3, DVec4};
@@ -128,19 +129,16 @@ impl CasterRegion {
         // Silhouette edges: an edge of a kept face whose twin lies in a
         // dropped face. Twins are found by scanning the other faces (bodies
         // have at most a few dozen edges).
-        let nf = h.face_count();
-        for i in 0..nf {
+        for (i, fi) in h.faces().enumerate() {
             if !keep[i] {
                 continue;
             }
-            let fi = h.face(i);
             for k in 0..fi.len() {
                 let (a, b) = (fi[k], fi[(k + 1) % fi.len()]);
-                let twin_dropped = (0..nf).any(|j| {
+                let twin_dropped = h.faces().enumerate().any(|(j, fj)| {
                     if j == i || keep[j] {
                         return false;
                     }
-                    let fj = h.face(j);
                     (0..fj.len()).any(|m| fj[m] == b && fj[(m + 1) % fj.len()] == a)
                 });
                 if twin_dropped {
@@ -227,8 +225,20 @@ impl CasterRegion {
 }
 
 /// Writes to `out` the indices of the casters that may shadow `map`;
-/// returns how many. `out` must hold `casters.len()` indices.
-pub fn cull_casters(map: &ShadowMap, casters: &[Aabb], out: &mut [u32]) -> usize {
+/// returns how many (the first that many entries of `out`).
+///
+/// `out` must hold `casters.len()` indices (every caster may be kept), and
+/// fewer than `u32::MAX` casters are indexed: otherwise the call is a
+/// [`FocusError::Capacity`] error, checked before any work, so a short
+/// buffer fails on the first frame rather than on the frame that happens to
+/// keep more casters than it holds.
+pub fn cull_casters(map: &ShadowMap, casters: &[Aabb], out: &mut [u32]) -> Result<usize, FocusError> {
+    if out.len() < casters.len() {
+        return Err(FocusError::Capacity { what: "cull_casters output (it must hold one index per caster)" });
+    }
+    if casters.len() > u32::MAX as usize {
+        return Err(FocusError::Capacity { what: "cull_casters input (at most u32::MAX casters)" });
+    }
     let region = CasterRegion::of_map(map);
     let mut n = 0;
     for (i, b) in casters.iter().enumerate() {
@@ -237,5 +247,5 @@ pub fn cull_casters(map: &ShadowMap, casters: &[Aabb], out: &mut [u32]) -> usize
             n += 1;
         }
     }
-    n
+    Ok(n)
 }

@@ -10,7 +10,7 @@ use crate::settings::{FocusSettings, Method, PointMode};
 use crate::splits::split_depths;
 use crate::MAX_SPLITS;
 use glam::{DMat4, DVec3, Mat4};
-use shadowfocus_geom::{focus_body_into, Aabb, Body, Camera, CameraBasis, Frustum, Light, MAX_VERTICES};
+use shadowfocus_geom::{focus_body_into, Aabb, Body, Camera, CameraBasis, Frustum, Light, MAX_VERTICES, ROUNDING_ULPS};
 
 /// Half-angle margin of cube faces and truncation frusta: the field of view
 /// is widened by 2⁻²⁰ (relative) so that the rounded frusta still overlap;
@@ -320,10 +320,9 @@ fn begin(map: &mut ShadowMap, sv: &SplitView, split: usize, face: Option<CubeFac
     map.psm_shift = 0.0;
     map.warp_near = f64::INFINITY;
     map.method = sv.settings.method;
-    map.light_near = match light {
-        Light::Directional { .. } => 0.0,
-        _ => sv.settings.light_near,
-    };
+    // Nothing is left out near a directional or spot light (a spot's own
+    // near plane is part of L); `point_maps` sets a point light's r.
+    map.light_near = 0.0;
     map.flags = 0;
 }
 
@@ -438,10 +437,41 @@ pub fn fit_map(camera: &Camera, light: &Light, body: &Body, settings: &FocusSett
     Ok(map_fit(&sv, light, &f))
 }
 
+/// The light's reach over a split: the largest max-norm distance from `l`
+/// to a corner of the split's frustum, or of the scene box where that is
+/// smaller. `H_i ⊆ hull(V_i ∪ l) ∩ S` lies within it (max norm).
+fn light_reach(view: &Frustum, l: DVec3, scene: &Aabb) -> f64 {
+    let from_l = |c: DVec3| (c - l).abs().max_element();
+    let v = view.corners().iter().map(|c| from_l(*c)).fold(0.0, f64::max);
+    let s = (0..8).map(|k| from_l(box_corner(scene, k))).fold(0.0, f64::max);
+    v.min(s)
+}
+
+fn box_corner(b: &Aabb, k: usize) -> DVec3 {
+    DVec3::new(
+        if k & 1 == 0 { b.min.x } else { b.max.x },
+        if k & 2 == 0 { b.min.y } else { b.max.y },
+        if k & 4 == 0 { b.min.z } else { b.max.z },
+    )
+}
+
+/// Largest absolute coordinate of the inputs of a split's body (the
+/// magnitude its rounding bound is relative to).
+fn input_magnitude(view: &Frustum, l: DVec3, scene: &Aabb) -> f64 {
+    let m = view.corners().iter().map(|c| c.abs().max_element()).fold(0.0, f64::max);
+    m.max(l.abs().max_element()).max(scene.min.abs().max_element()).max(scene.max.abs().max_element())
+}
+
 /// A point light: one perspective map toward the view, or six cube faces.
+///
+/// Guarantee (see [`crate::LightNear`]): every point of the split's body
+/// `H_i` farther than `r` from the light lies in some active map of the
+/// split, `r` being each map's `light_near` (0 where the map leaves nothing
+/// out: a single map of a light outside the scene box).
 fn point_maps(out: &mut FocusResult, sv: &SplitView, view: &Frustum, l: DVec3, scene: &Aabb, split: usize) -> Result<(), FocusError> {
+    let r = sv.settings.light_near.radius(light_reach(view, l, scene));
     if sv.settings.point == PointMode::Cube {
-        return cube_faces(out, sv, view, l, scene, split);
+        return cube_faces(out, sv, view, l, scene, split, r);
     }
     let light = Light::Point { position: l };
     let map = push(out)?;
@@ -454,9 +484,10 @@ fn point_maps(out: &mut FocusResult, sv: &SplitView, view: &Frustum, l: DVec3, s
     }
     if scene.contains(l) {
         // l ∈ hull(V ∪ l) ∩ S = H: no perspective map contains its own
-        // centre. Cut H at distance `light_near` along an axis that sees all
-        // of H's other points, as a spot light, and map the rest.
-        match truncation_frustum(sv, &map.body, l)? {
+        // centre. Cut H near the light along an axis that sees all of H's
+        // other points, as a spot light, and map the rest.
+        map.light_near = r;
+        match truncation_frustum(sv, &map.body, l, r, input_magnitude(view, l, scene))? {
             Truncation::Frustum(fr) => {
                 let spot = Light::spot(l, fr)?;
                 map.light = spot;
@@ -475,10 +506,10 @@ fn point_maps(out: &mut FocusResult, sv: &SplitView, view: &Frustum, l: DVec3, s
         return Ok(());
     }
     // The light is inside the view frustum (or sees H over more than a
-    // half-space): six faces.
+    // half-space, or over a cone wider than a cube face's): six faces.
     out.pop();
     out.notes.insert(Notes::POINT_AS_CUBE);
-    cube_faces(out, sv, view, l, scene, split)
+    cube_faces(out, sv, view, l, scene, split, r)
 }
 
 // NOTE: returned once per point-light split, never stored: the size
@@ -486,15 +517,29 @@ fn point_maps(out: &mut FocusResult, sv: &SplitView, view: &Frustum, l: DVec3, s
 #[allow(clippy::large_enum_variant)]
 enum Truncation {
     Frustum(Frustum),
-    /// All of H lies within `light_near` of the light.
+    /// All of H lies within `r` of the light.
     AllNear,
-    /// The directions from the light to H do not fit in an open half-space.
+    /// The directions from the light to H do not fit in an open half-space,
+    /// or not in a cone as narrow as a cube face's (`t_x² + t_y² ≤ 2`), or
+    /// rounding leaves a vertex's side of the light's plane unproven.
     NoCone,
 }
 
-/// A symmetric frustum from `l` (near = `light_near`) containing every
-/// point of `body` at depth ≥ near along its axis.
-fn truncation_frustum(sv: &SplitView, body: &Body, l: DVec3) -> Result<Truncation, FocusError> {
+/// A symmetric frustum from `l` containing every point of `body` (exact
+/// points, not only the rounded vertices) at depth ≥ its near along its
+/// axis, with its near chosen so that every point of the body before it
+/// lies within `r` of `l`.
+///
+/// Every point `p` of the body is `l + Σ λ_i (v_i − l)`, `λ_i ≥ 0`, so it
+/// lies in the cone of the vertices' directions: its lateral offsets are at
+/// most `t_x`, `t_y` times its depth `t` along the axis, and
+/// `|p − l| ≤ t √(1 + t_x² + t_y²)`. With near `r / √(1 + t_x² + t_y²)`
+/// every point cut off lies within `r`. The tangents are bounded from the
+/// rounded vertices with their proven error (`ROUNDING_ULPS` ulps of the
+/// inputs' magnitude `mag`, per coordinate) and the rounding of the dot
+/// products, then widened by `CONE_MARGIN`; the near is rounded down by the
+/// same margin.
+fn truncation_frustum(sv: &SplitView, body: &Body, l: DVec3, r: f64, mag: f64) -> Result<Truncation, FocusError> {
     let verts = body.vertices();
     // Unit directions to the vertices other than the light itself.
     // NOTE: normalised once here rather than in every pass of the search
@@ -517,27 +562,43 @@ fn truncation_frustum(sv: &SplitView, body: &Body, l: DVec3) -> Result<Truncatio
     let Some(a) = axis else { return Ok(Truncation::NoCone) };
     let hint = perpendicular_hint(sv.basis.forward, sv.basis.right + sv.basis.up);
     let (right, up) = tangent_frame(a, sv.basis.forward, hint);
+    // Error of u = v − l against the exact vertex: the vertex's proven
+    // bound per coordinate (√3 of it in length) and the subtraction's
+    // rounding, doubled for the rounding of this bound itself.
+    let delta = 2.0 * 3f64.sqrt() * (ROUNDING_ULPS + 2.0) * f64::EPSILON * mag;
     let (mut tx, mut ty, mut far) = (0.0f64, 0.0f64, 0.0f64);
     for p in verts.iter().filter(|p| **p != l) {
         let u = *p - l;
-        let depth = a.dot(u);
-        tx = tx.max(right.dot(u).abs() / depth);
-        ty = ty.max(up.dot(u).abs() / depth);
-        far = far.max(depth);
+        // Each dot product with a (nearly) unit vector: off by at most
+        // δ (|a| ≤ 1 + ε) plus its own rounding (≤ 4ε Σ|u_j|).
+        let err = delta * (1.0 + f64::EPSILON) + 4.0 * f64::EPSILON * u.abs().element_sum();
+        let depth = a.dot(u) - err;
+        if !(depth > 0.0) {
+            return Ok(Truncation::NoCone);
+        }
+        tx = tx.max((right.dot(u).abs() + err) / depth);
+        ty = ty.max((up.dot(u).abs() + err) / depth);
+        far = far.max(depth + 2.0 * err);
     }
-    let near = sv.settings.light_near;
     far *= 1.0 + CONE_MARGIN;
+    // Keep both half-angles positive and finite (a flat body seen edge-on).
+    let t_max = tx.max(ty).max(1e-9);
+    let (tx, ty) = ((tx.max(t_max * 1e-6)) * (1.0 + CONE_MARGIN), (ty.max(t_max * 1e-6)) * (1.0 + CONE_MARGIN));
+    let k = (1.0 + tx * tx + ty * ty).sqrt();
+    let near = r / k * (1.0 - CONE_MARGIN);
     if !(far > near) {
         return Ok(Truncation::AllNear);
     }
-    // Keep both half-angles positive and finite (a flat body seen edge-on).
-    let t_max = tx.max(ty).max(1e-9);
-    let (tx, ty) = (tx.max(t_max * 1e-6), ty.max(t_max * 1e-6));
+    // Wider than a cube face (tan² of both half-angles 1): the faces cut at
+    // r/√3, nearer than this map would have to.
+    if !(tx * tx + ty * ty <= 2.0) {
+        return Ok(Truncation::NoCone);
+    }
     let cam = Camera {
         eye: l,
         forward: a,
         up,
-        fovy: 2.0 * (ty * (1.0 + CONE_MARGIN)).atan(),
+        fovy: 2.0 * ty.atan(),
         aspect: tx / ty,
         near,
         far,
@@ -549,36 +610,42 @@ fn truncation_frustum(sv: &SplitView, body: &Body, l: DVec3) -> Result<Truncatio
 }
 
 /// Six 90° faces (widened by `CONE_MARGIN` so they overlap), each a spot
-/// light from `l` with near `light_near` and far reaching the scene box's
-/// farthest corner along the face axis; each focused on its own body.
-fn cube_faces(out: &mut FocusResult, sv: &SplitView, view: &Frustum, l: DVec3, scene: &Aabb, split: usize) -> Result<(), FocusError> {
-    let near = sv.settings.light_near;
+/// light from `l` with near `r/√3` (rounded down) and far reaching the
+/// scene box's farthest corner along the face axis; each focused on its own
+/// body. A point farther than `r` from `l` is farther than `r/√3` along
+/// the axis of its largest coordinate (max norm ≥ Euclidean / √3), so the
+/// face of that axis holds it.
+fn cube_faces(out: &mut FocusResult, sv: &SplitView, view: &Frustum, l: DVec3, scene: &Aabb, split: usize, r: f64) -> Result<(), FocusError> {
+    let near = r * (1.0 / 3f64.sqrt()) * (1.0 - CONE_MARGIN);
     for face in CubeFace::ALL {
         let (axis, up) = face.axes();
-        let mut far = f64::NEG_INFINITY;
-        for k in 0..8 {
-            let c = DVec3::new(
-                if k & 1 == 0 { scene.min.x } else { scene.max.x },
-                if k & 2 == 0 { scene.min.y } else { scene.max.y },
-                if k & 4 == 0 { scene.min.z } else { scene.max.z },
-            );
-            far = far.max(axis.dot(c - l));
-        }
-        far *= 1.0 + CONE_MARGIN;
+        let far = (0..8).map(|k| axis.dot(box_corner(scene, k) - l)).fold(f64::NEG_INFINITY, f64::max) * (1.0 + CONE_MARGIN);
         let map = push(out)?;
         begin(map, sv, split, Some(face), &Light::Point { position: l });
+        map.light_near = r;
         if !(far > near) {
             map.set_empty();
             map.body_valid = false;
             continue;
         }
         let cam = Camera { eye: l, forward: axis, up, fovy: 2.0 * (1.0 + CONE_MARGIN).atan(), aspect: 1.0, near, far };
-        let spot = Light::spot(l, Frustum::from_camera(&cam)?)?;
+        let face_frustum = Frustum::from_camera(&cam)?;
+        let spot = Light::spot(l, face_frustum)?;
         map.light = spot;
         focus_body_into(&mut map.body, view, &spot, scene)?;
         map.body_valid = true;
+        if finish(map, sv) {
+            continue;
+        }
+        // The body's vertices are rounded within ROUNDING_ULPS of the
+        // inputs' largest magnitude; a view frustum far larger than the
+        // scene (a huge aspect or far) can then put some behind the light,
+        // where no map from it sees them. The face's frustum cut by S,
+        // `L_f ∩ S ⊇ H_f` (its body with the face itself as the view), is
+        // computed at the face's own scale: fit the map to that instead.
+        focus_body_into(&mut map.body, &face_frustum, &spot, scene)?;
         if !finish(map, sv) {
-            return Err(FocusError::NoSingleProjection { reason: "a cube face cannot see its body" });
+            return Err(FocusError::NoSingleProjection { reason: "a cube face cannot see its body, nor its frustum within the scene box" });
         }
     }
     Ok(())
@@ -627,9 +694,11 @@ fn plan(out: &mut FocusResult, settings: &FocusSettings, light: &Light, scene: &
         skipped.insert(Skipped::SCENE_CLIP);
     }
     if let Light::Point { position } = *light {
-        // The cube of half-size light_near around the light meets S.
-        let r = DVec3::splat(settings.light_near);
-        if (position + r).cmpge(scene.min).all() && (position - r).cmple(scene.max).all() {
+        // Some map leaves out casters within r > 0 of the light, and the
+        // cube of half-size r around the light meets S.
+        let r = out.maps().iter().map(|m| m.light_near).fold(0.0, f64::max);
+        let rv = DVec3::splat(r);
+        if r > 0.0 && (position + rv).cmpge(scene.min).all() && (position - rv).cmple(scene.max).all() {
             notes.insert(Notes::LIGHT_NEAR);
         }
     }

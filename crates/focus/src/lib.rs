@@ -69,7 +69,7 @@
 //! let mut visible = [0u32; 1];
 //! for map in frame.maps().iter().filter(|m| m.is_active()) {
 //!     let _upload: [f32; 16] = map.matrix_f32.to_cols_array();
-//!     let n = cull_casters(map, &casters, &mut visible);
+//!     let n = cull_casters(map, &casters, &mut visible)?;
 //!     // render casters visible[..n] into the map with map.depth_test …
 //!     # let _ = n;
 //! }
@@ -101,7 +101,7 @@ pub use error::FocusError;
 pub use fit::{fit, fit_frustum, fit_map, fit_prepared, MapFit, PreparedView};
 pub use frame::S0 as ORIENTATION_BLEND_SIN;
 pub use result::{CubeFace, DepthTest, FocusResult, MapState, Notes, ShadowMap, Skipped};
-pub use settings::{FocusSettings, LispsmSettings, MapOrientation, Method, PointMode, PsmSettings, SplitScheme, SplitSettings, TsmSettings, WarpDirection};
+pub use settings::{FocusSettings, LightNear, LispsmSettings, MapOrientation, Method, PointMode, PsmSettings, SplitScheme, SplitSettings, TsmSettings, WarpDirection};
 pub use splits::{clip_depth, split_depths};
 
 /// Most parallel splits.

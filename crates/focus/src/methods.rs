@@ -12,7 +12,7 @@ use crate::predict::Samples;
 use crate::project::{apply_warp, central_projection, crop, from_rows, h, Central, Cropped, DepthKind, Warp};
 use crate::settings::{FocusSettings, MapOrientation, Method, WarpDirection};
 use glam::{DMat4, DVec2, DVec3, DVec4};
-use shadowfocus_geom::{Body, Camera, CameraBasis, Dimension, Light, MAX_VERTICES};
+use shadowfocus_geom::{unit_direction, Body, Camera, CameraBasis, Dimension, Light, MAX_VERTICES};
 
 /// The camera of one split and what every method reads from it.
 pub(crate) struct SplitView<'a> {
@@ -57,10 +57,11 @@ impl Fitted {
 
 /// The light as an oriented homogeneous point: `(l, 1)` for point and spot
 /// lights, `(−d̂, 0)` — the point at infinity the light comes from — for
-/// directional ones.
+/// directional ones (normalised without overflow or underflow, see
+/// [`unit_direction`]).
 pub(crate) fn light_point(light: &Light) -> DVec4 {
     match *light {
-        Light::Directional { direction } => (-direction.normalize()).extend(0.0),
+        Light::Directional { direction } => (-unit_direction(direction)).extend(0.0),
         Light::Point { position } | Light::Spot { position, .. } => position.extend(1.0),
     }
 }
@@ -93,7 +94,7 @@ pub(crate) fn fit_body(sv: &SplitView, light: &Light, body: &Body) -> Option<Fit
         },
         Method::Lispsm | Method::Tsm => warped(sv, light, body),
     }?;
-    out.stable_ignored = s.stable && !(s.method == Method::Uniform && directional);
+    out.stable_ignored |= s.stable && !(s.method == Method::Uniform && directional);
     Some(out)
 }
 
@@ -509,7 +510,7 @@ fn stable(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted> {
     let cam = sv.camera;
     let b = &sv.basis;
     let Light::Directional { direction } = *light else { return uniform(sv, light, body) };
-    let d = direction.normalize();
+    let d = unit_direction(direction);
     let (ex, ey) = tangent_frame(d, DVec3::Z, DVec3::X);
     let (n, f) = (cam.near, cam.far);
     let t = (0.5 * cam.fovy).tan();
@@ -551,5 +552,22 @@ fn stable(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted> {
         DVec4::new(d.x, d.y, d.z, -zc) / (2.0 * zh),
         DVec4::new(0.0, 0.0, 0.0, 1.0),
     );
+    // The disk argument above holds for exact arithmetic; check it as every
+    // other map is checked: each vertex inside the clip volume by more than
+    // the rounding bound of its clip coordinates (`K u₆₄ Σ|M_rj||p_j|`, as
+    // in `crop`). Else the uniform fit (which crops to the body), and the
+    // plan says that stability was given up.
+    let holds = mm.is_finite()
+        && verts.iter().all(|p| {
+            let q = mm * h(*p);
+            let e = |r: usize| mm.row(r).abs().dot(h(*p).abs()) * (8.0 * f64::EPSILON);
+            q.x.abs() + e(0) <= 1.0 && q.y.abs() + e(1) <= 1.0 && q.z - e(2) >= 0.0 && q.z + e(2) <= 1.0
+        });
+    if !holds {
+        return uniform(sv, light, body).map(|mut f| {
+            f.stable_ignored = true;
+            f
+        });
+    }
     Some(Fitted::plain(Cropped { m: mm, f32_exact }, Method::Uniform))
 }

@@ -105,8 +105,9 @@ pub struct ShadowMap {
     pub warp_near: f64,
     /// PSM's virtual camera shift along −forward (0 when none was needed).
     pub psm_shift: f64,
-    /// For point and spot lights, the distance `r` from the light within
-    /// which casters may be left out of this map; 0 for directional lights.
+    /// For point lights, the distance `r` from the light within which
+    /// casters may be left out of this map (see [`crate::LightNear`]); 0
+    /// where the map leaves nothing out (directional and spot lights).
     pub light_near: f64,
     /// The light this map projects from (a cube face's 90° spot for
     /// omnidirectional lights).

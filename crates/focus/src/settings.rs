@@ -133,6 +133,49 @@ pub enum PointMode {
     Cube,
 }
 
+/// The distance `r` from a point light within which casters may be left
+/// out of its maps (a perspective map cannot contain its own centre).
+///
+/// The guarantee, per split: every point of the split's focus body `H_i`
+/// farther than `r` from the light lies in some active map of the split;
+/// each map reports its `r` in [`crate::ShadowMap::light_near`]. A single
+/// map cuts `H_i` with a plane at `r / √(1 + t_x² + t_y²)` along its axis
+/// (`t_x`, `t_y` the tangents of its half-angles, so that every point cut
+/// off lies within `r`), and gives way to six cube faces, each cut at
+/// `r/√3`, where its cone is wider than a cube face's (`t_x² + t_y² > 2`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LightNear {
+    /// `r = fraction · R`, with `R` the light's reach over the split: the
+    /// largest max-norm distance from the light to a corner of the split's
+    /// frustum or, if smaller, of the scene box (an upper bound of the
+    /// distance from the light to any point of `H_i`, in the max norm). `r`
+    /// then follows the scene's scale; `fraction` lies in `(0, 1)`.
+    Auto { fraction: f64 },
+    /// A fixed `r` in world units (e.g. the light's own radius); finite and
+    /// positive.
+    Fixed(f64),
+}
+
+impl LightNear {
+    /// The default fraction of [`LightNear::Auto`]: 2⁻¹⁰, a depth range of
+    /// about a thousand for a map that reaches across the split.
+    pub const DEFAULT_FRACTION: f64 = 1.0 / 1024.0;
+
+    /// `r` for a light whose reach over the split is `reach`.
+    pub fn radius(self, reach: f64) -> f64 {
+        match self {
+            LightNear::Auto { fraction } => fraction * reach,
+            LightNear::Fixed(r) => r,
+        }
+    }
+}
+
+impl Default for LightNear {
+    fn default() -> Self {
+        LightNear::Auto { fraction: LightNear::DEFAULT_FRACTION }
+    }
+}
+
 /// Everything a fit needs besides camera, light and scene.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FocusSettings {
@@ -147,10 +190,11 @@ pub struct FocusSettings {
     pub psm: PsmSettings,
     pub tsm: TsmSettings,
     pub point: PointMode,
-    /// Distance from a point or spot light below which casters are not
-    /// mapped (the light's own radius); a perspective map cannot contain its
-    /// centre. Must be positive.
-    pub light_near: f64,
+    /// Distance from a point light below which casters may be left out of
+    /// its maps (see [`LightNear`]; by default a fraction of the light's
+    /// reach, so it follows the scene's scale). Spot lights use their own
+    /// frustum's near plane instead.
+    pub light_near: LightNear,
     /// How each map's image is turned (default: least area).
     pub orientation: MapOrientation,
     /// LiSPSM, TSM and PSM are weakened or replaced by the uniform map where
@@ -177,7 +221,7 @@ impl Default for FocusSettings {
             psm: PsmSettings::default(),
             tsm: TsmSettings::default(),
             point: PointMode::Single,
-            light_near: 0.05,
+            light_near: LightNear::default(),
             orientation: MapOrientation::LeastArea,
             warp_guard: true,
             f32_origin: glam::DVec3::ZERO,
@@ -203,8 +247,17 @@ impl FocusSettings {
         if self.resolution < 4 {
             return bad("resolution", "must be at least 4 texels");
         }
-        if !(self.light_near.is_finite() && self.light_near > 0.0) {
-            return bad("light_near", "must be finite and positive");
+        match self.light_near {
+            LightNear::Auto { fraction } => {
+                if !(fraction > 0.0 && fraction < 1.0) {
+                    return bad("light_near", "Auto's fraction must lie in (0, 1)");
+                }
+            }
+            LightNear::Fixed(r) => {
+                if !(r.is_finite() && r > 0.0) {
+                    return bad("light_near", "Fixed(r) must be finite and positive");
+                }
+            }
         }
         if !self.f32_origin.is_finite() {
             return bad("f32_origin", "must be finite");

@@ -239,7 +239,11 @@ fn invalid_input_is_a_typed_error() {
         FocusSettings { splits: SplitSettings { scheme: SplitScheme::Practical { lambda: 1.5 }, ..Default::default() }, ..s },
         FocusSettings { splits: SplitSettings { delta_bias: f64::NAN, ..Default::default() }, ..s },
         FocusSettings { resolution: 2, ..s },
-        FocusSettings { light_near: 0.0, ..s },
+        FocusSettings { light_near: LightNear::Fixed(0.0), ..s },
+        FocusSettings { light_near: LightNear::Fixed(f64::INFINITY), ..s },
+        FocusSettings { light_near: LightNear::Auto { fraction: 0.0 }, ..s },
+        FocusSettings { light_near: LightNear::Auto { fraction: 1.0 }, ..s },
+        FocusSettings { light_near: LightNear::Auto { fraction: f64::NAN }, ..s },
         FocusSettings { lispsm: LispsmSettings { visible_far: Some(-1.0), ..Default::default() }, ..s },
         FocusSettings { tsm: TsmSettings { focus: 0.0 }, ..s },
     ] {
@@ -301,11 +305,20 @@ fn maps_hold_bodies_where_w_is_below_its_rounding_bound() {
 fn point_light_modes() {
     let cam = camera();
     let scene = scene();
-    // Outside the view, inside the scene: one truncated map.
-    let l = DVec3::new(30.0, 15.0, 15.0);
+    // Outside the view, inside the scene, H seen over a cone narrower than
+    // a cube face's: one truncated map.
+    let l = DVec3::new(-49.0, 1.0, 19.0);
     let out = fit1(&cam, &Light::point(l).unwrap(), &scene, &FocusSettings::default());
     assert_eq!(out.maps().len(), 1);
     assert!(matches!(out.maps()[0].light, Light::Spot { .. }) && out.notes.contains(Notes::LIGHT_NEAR));
+    assert!(!out.notes.contains(Notes::POINT_AS_CUBE));
+    // Outside the view, inside the scene, H around the light over a cone
+    // wider than a cube face's: six faces rather than a map cut so near
+    // the light that it would drop points farther than r.
+    let l = DVec3::new(30.0, 15.0, 15.0);
+    let out = fit1(&cam, &Light::point(l).unwrap(), &scene, &FocusSettings::default());
+    assert_eq!(out.maps().len(), 6);
+    assert!(out.notes.contains(Notes::POINT_AS_CUBE) && out.notes.contains(Notes::LIGHT_NEAR));
     // Inside the view frustum: six faces.
     let l = DVec3::new(0.0, 2.0, -20.0);
     let out = fit1(&cam, &Light::point(l).unwrap(), &scene, &FocusSettings::default());
@@ -336,7 +349,7 @@ fn culling_drops_far_casters_and_keeps_shadowing_ones() {
             let mut idx = vec![0u32; casters.len()];
             let mut kept_total = 0;
             for m in out.maps().iter().filter(|m| m.is_active()) {
-                let n = cull_casters(m, &casters, &mut idx);
+                let n = cull_casters(m, &casters, &mut idx).unwrap();
                 kept_total += n;
                 // Every caster meeting H (a vertex inside the box, or the box
                 // holding a body point) is kept.
@@ -380,4 +393,77 @@ fn corners_form_reproduces_the_camera_fit() {
     let spot = Light::spot(cam.eye + DVec3::new(0.0, 0.0, 0.0), Frustum::from_camera(&Camera { near: 0.1, far: 200.0, fovy: 1.2, ..cam }).unwrap()).unwrap();
     let out = fit1(&cam, &spot, &scene(), &FocusSettings::default());
     assert!(out.maps().iter().all(|m| m.is_active()));
+}
+
+/// Directions far above and below unit length (|d|² overflows or
+/// underflows): the same light. With exact power-of-two multiples the maps
+/// are those of the unit direction bit for bit; with 1e±300 multiples every
+/// map holds its body, the depth test is the unit direction's and culling
+/// keeps the casters the unit direction's maps keep.
+#[test]
+fn long_and_short_light_directions_fit_like_unit_ones() {
+    let (cam, scene) = (camera(), scene());
+    let d = DVec3::new(0.3, -1.0, 0.2);
+    let casters: Vec<Aabb> = (0..40)
+        .map(|k| {
+            let c = DVec3::new((k % 8) as f64 * 12.0 - 45.0, (k / 8) as f64 * 4.0, -(k as f64) * 2.4);
+            Aabb::new(c - DVec3::splat(1.5), c + DVec3::splat(1.5)).unwrap()
+        })
+        .collect();
+    let mut idx = vec![0u32; casters.len()];
+    let settings = [
+        FocusSettings::default(),
+        FocusSettings { stable: true, splits: SplitSettings { count: 4, ..Default::default() }, ..Default::default() },
+        psm(),
+        lispsm(None),
+        FocusSettings { method: Method::Tsm, splits: SplitSettings { count: 4, ..Default::default() }, ..Default::default() },
+    ];
+    for s in &settings {
+        let unit = fit1(&cam, &Light::directional(d).unwrap(), &scene, s);
+        let kept = |out: &FocusResult, idx: &mut [u32]| -> Vec<Vec<u32>> {
+            out.maps().iter().filter(|m| m.is_active()).map(|m| {
+                let n = cull_casters(m, &casters, idx).unwrap();
+                idx[..n].to_vec()
+            }).collect()
+        };
+        let unit_kept = kept(&unit, &mut idx);
+        assert!(unit_kept.iter().any(|k| !k.is_empty()));
+        // Exponents that keep every component a normal number (exact).
+        for e in [-1000, -600, 600, 1000] {
+            let dk = d * 2f64.powi(e / 2) * 2f64.powi(e - e / 2);
+            let out = fit1(&cam, &Light::directional(dk).unwrap(), &scene, s);
+            assert_eq!(out.notes, unit.notes, "2^{e} {:?}", s.method);
+            for (a, b) in out.maps().iter().zip(unit.maps()) {
+                assert_eq!(a.matrix, b.matrix, "2^{e} {:?}", s.method);
+                assert_eq!(a.depth_test, b.depth_test);
+            }
+        }
+        for k in [1e300, 1e-300] {
+            let out = fit1(&cam, &Light::directional(d * k).unwrap(), &scene, s);
+            assert_eq!(out.maps().len(), unit.maps().len());
+            for (a, b) in out.maps().iter().zip(unit.maps()) {
+                assert!(a.matrix.is_finite() && a.matrix.determinant() != 0.0, "{k:e} {:?}", s.method);
+                assert_eq!(a.depth_test, b.depth_test, "{k:e} {:?}", s.method);
+            }
+            assert_eq!(out.notes.contains(Notes::INVERTED), unit.notes.contains(Notes::INVERTED));
+            assert_eq!(kept(&out, &mut idx), unit_kept, "{k:e} {:?}", s.method);
+        }
+    }
+}
+
+/// `cull_casters` with an output shorter than the casters is a typed error
+/// (checked before any work), never an out-of-bounds panic.
+#[test]
+fn cull_casters_refuses_a_short_output() {
+    let out = fit1(&camera(), &Light::directional(DVec3::new(0.4, -1.0, 0.3)).unwrap(), &scene(), &FocusSettings::default());
+    let m = &out.maps()[0];
+    let casters = [Aabb::new(DVec3::new(-1.0, 0.0, -5.0), DVec3::new(1.0, 3.0, -3.0)).unwrap(); 3];
+    for len in [0, 1, 2] {
+        let mut idx = vec![0u32; len];
+        assert!(matches!(cull_casters(m, &casters, &mut idx), Err(FocusError::Capacity { .. })), "{len}");
+    }
+    let mut idx = [0u32; 3];
+    assert_eq!(cull_casters(m, &casters, &mut idx), Ok(3));
+    assert_eq!(idx, [0, 1, 2]);
+    assert_eq!(cull_casters(m, &[], &mut []), Ok(0));
 }

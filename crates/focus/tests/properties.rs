@@ -41,7 +41,7 @@ fn check_frame(cam: &Camera, light: &Light, scene: &Aabb, s: &FocusSettings, out
         // lights; a point light's map may lose it for vertices a few
         // `light_near` from the light (w there is below f32's resolution of
         // the world coordinates) — then the frame says so.
-        if matches!(map.light, Light::Directional { .. }) {
+        if matches!(map.light, Light::Directional { .. }) && modest_coordinates(cam, scene) {
             prop_assert!(map.f32_exact, "f32 guarantee lost at modest coordinates");
         }
         if !map.f32_exact {
@@ -57,7 +57,10 @@ fn check_frame(cam: &Camera, light: &Light, scene: &Aabb, s: &FocusSettings, out
         let lp = light_point(&map.light);
         for r in [0, 1, 3] {
             let row: DVec4 = map.matrix.row(r);
-            let scale = row.abs().dot(lp.abs()).max(1e-300);
+            // Against the row's largest entry too: a w row at infinity
+            // ((≈0, ≈0, ≈0, w), an orthographic map) has xyz entries of
+            // rounding size, which its own |row|·|L| does not bound.
+            let scale = row.abs().dot(lp.abs()).max(row.abs().max_element() * lp.abs().max_element()).max(1e-300);
             prop_assert!(row.dot(lp).abs() <= 1e-9 * scale, "row {r} misses the light: {}", row.dot(lp) / scale);
         }
         // The body is H_i of the split, recomputed independently.
@@ -85,8 +88,10 @@ fn check_frame(cam: &Camera, light: &Light, scene: &Aabb, s: &FocusSettings, out
         }
         let i = (0..s.splits.count).find(|&i| d[i] <= z && z <= d[i + 1]).unwrap();
         let covered = out.maps().iter().filter(|m| m.split == i && m.is_active()).any(|m| inside_f64(&m.matrix, p));
+        // Within the split's r of a point light (the maps' light_near).
+        let r = out.maps().iter().filter(|m| m.split == i).map(|m| m.light_near).fold(0.0, f64::max);
         let near_light = match light {
-            Light::Point { position } => (p - *position).abs().max_element() < s.light_near * 1.001,
+            Light::Point { position } => (p - *position).length() <= r,
             _ => false,
         };
         let in_spot = match light {
@@ -96,8 +101,8 @@ fn check_frame(cam: &Camera, light: &Light, scene: &Aabb, s: &FocusSettings, out
         prop_assert!(covered || near_light || !in_spot, "visible point {p} at depth {z} not in split {i}'s map");
     }
 
-    // Point lights: the untruncated H outside the light's near cube is
-    // covered (cube faces: by some face; single map: by the map).
+    // Point lights: every vertex of the untruncated H_i farther than the
+    // split's r from the light is in some active map of the split.
     if let Light::Point { position: l } = *light {
         for i in 0..s.splits.count {
             if d[i] >= d[i + 1] {
@@ -105,22 +110,13 @@ fn check_frame(cam: &Camera, light: &Light, scene: &Aabb, s: &FocusSettings, out
             }
             let sub = split_camera(cam, [d[i], d[i + 1]]);
             let h0 = focus_body(&Frustum::from_camera(&sub).unwrap(), light, scene).unwrap();
+            let r = point_light_radius(out, i)?;
             let maps: Vec<&ShadowMap> = out.maps().iter().filter(|m| m.split == i && m.is_active()).collect();
             for v in h0.vertices() {
-                if (*v - l).abs().max_element() < s.light_near * (1.0 + 1e-9) {
+                if (*v - l).length() <= r {
                     continue;
                 }
-                if let [single] = maps.as_slice() {
-                    if let Light::Spot { frustum, .. } = single.light {
-                        // Truncated at `light_near` along the spot's axis.
-                        let c = frustum.corners();
-                        let axis = ((c[4] + c[5] + c[6] + c[7]) * 0.25 - l).normalize();
-                        if axis.dot(*v - l) < s.light_near * (1.0 + 1e-9) {
-                            continue;
-                        }
-                    }
-                }
-                prop_assert!(maps.iter().any(|m| inside_f64(&m.matrix, *v)), "H vertex {v} of split {i} in no map");
+                prop_assert!(maps.iter().any(|m| inside_f64(&m.matrix, *v)), "H vertex {v} of split {i} ({} from the light, r = {r}) in no map", (*v - l).length());
             }
         }
     }
@@ -138,7 +134,7 @@ proptest! {
     #![proptest_config(config())]
 
     #[test]
-    fn conservative_and_covering(cam in camera_strategy(), scene in scene_strategy(), light in light_strategy(), s in settings_strategy()) {
+    fn conservative_and_covering((cam, scene, light) in frame_strategy(), s in settings_strategy()) {
         let mut out = FocusResult::new();
         fit(&cam, &light, &scene, &s, &mut out).map_err(|e| TestCaseError::fail(format!("{e}")))?;
         check_frame(&cam, &light, &scene, &s, &out)?;
@@ -148,7 +144,7 @@ proptest! {
     /// nearer the light has the smaller depth for `Less`, the larger for
     /// `Greater` (PSM's inverted lights included).
     #[test]
-    fn depth_order(cam in camera_strategy(), scene in scene_strategy(), light in light_strategy(), s in settings_strategy(), seed in any::<u64>()) {
+    fn depth_order((cam, scene, light) in frame_strategy(), s in settings_strategy(), seed in any::<u64>()) {
         let mut out = FocusResult::new();
         fit(&cam, &light, &scene, &s, &mut out).map_err(|e| TestCaseError::fail(format!("{e}")))?;
         for map in out.maps().iter().filter(|m| m.is_active()) {
@@ -175,7 +171,14 @@ proptest! {
                 prop_assert!(qa.w > 0.0 && qb.w > 0.0);
                 let (xa, ya, za) = (qa.x / qa.w, qa.y / qa.w, qa.z / qa.w);
                 let (xb, yb, zb) = (qb.x / qb.w, qb.y / qb.w, qb.z / qb.w);
-                prop_assert!((xa - xb).abs() < 1e-7 && (ya - yb).abs() < 1e-7, "not one texel: ({xa}, {ya}) vs ({xb}, {yb})");
+                // The points are rounded: compare at the resolution their
+                // rounding leaves (coarse only far from the origin).
+                let res = ndc_sensitivity(&map.matrix, near_light) + ndc_sensitivity(&map.matrix, far_light);
+                let tol = 1e-7 + 2.0 * res.x.max(res.y);
+                prop_assert!((xa - xb).abs() < tol && (ya - yb).abs() < tol, "not one texel: ({xa}, {ya}) vs ({xb}, {yb}), resolution {tol}");
+                if (za - zb).abs() <= 2.0 * res.z {
+                    continue;
+                }
                 match map.depth_test {
                     DepthTest::Less => prop_assert!(za < zb, "less: {za} !< {zb} ({:?})", map.method),
                     DepthTest::Greater => prop_assert!(za > zb, "greater: {za} !> {zb} ({:?})", map.method),
@@ -228,7 +231,7 @@ proptest! {
     /// Caster culling never drops a box that meets the region that can
     /// shadow the map (H swept toward the light / hull(H ∪ l)).
     #[test]
-    fn culling_is_conservative(cam in camera_strategy(), scene in scene_strategy(), light in light_strategy(), seed in any::<u64>(), sizes in proptest::collection::vec(0.0..3.0f64, 12)) {
+    fn culling_is_conservative((cam, scene, light) in frame_strategy(), seed in any::<u64>(), sizes in proptest::collection::vec(0.0..3.0f64, 12)) {
         let s = FocusSettings::default();
         let mut out = FocusResult::new();
         fit(&cam, &light, &scene, &s, &mut out).map_err(|e| TestCaseError::fail(format!("{e}")))?;

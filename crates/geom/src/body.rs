@@ -94,6 +94,16 @@ impl Light {
         }
     }
 
+    /// The unit vector along a directional light's travel direction, for
+    /// any finite nonzero direction however long or short (see
+    /// [`unit_direction`]); `None` for point and spot lights.
+    pub fn unit_direction(&self) -> Option<DVec3> {
+        match *self {
+            Light::Directional { direction } => Some(unit_direction(direction)),
+            _ => None,
+        }
+    }
+
     /// The light as a homogeneous point (at infinity for directional lights).
     pub fn apex(&self) -> Apex {
         match *self {
@@ -101,6 +111,30 @@ impl Light {
             Light::Point { position } | Light::Spot { position, .. } => Apex::Finite(position),
         }
     }
+}
+
+/// `d / |d|` for any finite nonzero `d`, also where `|d|²` overflows
+/// (|d| above ~1e154) or underflows (below ~1e-154), which `normalize`
+/// turns into zero, infinity or NaN.
+///
+/// `d` is first multiplied by the power of two `2^-e` that brings its
+/// largest component into `[1, 2)` (exact: only the exponents change, except
+/// for components below 2⁻¹⁰²² of the largest, which round as a unit vector
+/// would round them anyway), then normalised. The zero vector and
+/// non-finite input give NaN components (validated lights never have them).
+pub fn unit_direction(d: DVec3) -> DVec3 {
+    let m = d.abs().max_element();
+    if !(m > 0.0 && m.is_finite()) {
+        return DVec3::splat(f64::NAN);
+    }
+    let bits = m.to_bits();
+    let biased = ((bits >> 52) & 0x7ff) as i32;
+    // floor(log2 m), exactly, for normal and subnormal m: in [-1074, 1023].
+    let e = if biased == 0 { -1074 + (63 - (bits & ((1u64 << 52) - 1)).leading_zeros() as i32) } else { biased - 1023 };
+    // 2^-e in two factors, each a normal power of two (|k| ≤ 537).
+    let pow2 = |k: i32| f64::from_bits(((k + 1023) as u64) << 52);
+    let (a, b) = (-e / 2, -e - (-e / 2));
+    (d * pow2(a) * pow2(b)).normalize()
 }
 
 /// Dimension of a focus body.
@@ -279,14 +313,21 @@ impl Body {
     }
 
     /// Face `i` as vertex indices, counter-clockwise seen from outside (for
-    /// a polygon: seen from the side its face plane's normal points to).
+    /// a polygon: seen from the side its face plane's normal points to);
+    /// `None` for `i ≥ face_count()`.
     #[inline]
-    pub fn face(&self, i: usize) -> &[u16] {
+    pub fn face(&self, i: usize) -> Option<&[u16]> {
+        (i < self.n_faces).then(|| self.face_unchecked(i))
+    }
+
+    /// Face `i < n_faces`.
+    #[inline]
+    fn face_unchecked(&self, i: usize) -> &[u16] {
         &self.idx[self.face_start[i] as usize..self.face_start[i + 1] as usize]
     }
 
     pub fn faces(&self) -> impl Iterator<Item = &[u16]> + '_ {
-        (0..self.n_faces).map(move |i| self.face(i))
+        (0..self.n_faces).map(move |i| self.face_unchecked(i))
     }
 
     /// Per face: unit outward normal (xyz) and offset (w); inside is
@@ -315,7 +356,7 @@ impl Body {
             LightInput::Point(position) => Light::Point { position },
             LightInput::Spot(position) => Light::Spot { position, frustum: Frustum::from_corners(spot_corners).ok()? },
         };
-        let mut work = Box::new(Polytope::from_aabb(&scene));
+        let mut work = Box::new(Polytope::from_aabb(&scene).ok()?);
         let mut plan = Box::new(Plan::new());
         match plan_into(&mut plan, &view, &light, &scene).ok()? {
             true => clip_exactly(&mut work, &mut plan, &view, &light).ok()?,
@@ -430,7 +471,7 @@ fn plan_into(plan: &mut Plan, view: &Frustum, light: &Light, scene: &Aabb) -> Re
 /// The exact engine: every decision exact, vertices kept unrounded.
 fn clip_exactly(work: &mut Polytope, plan: &mut Plan, view: &Frustum, light: &Light) -> Result<(), GeomError> {
     view.hull_planes_into(light.apex(), &plan.outline, &mut plan.hull);
-    work.reset_to_aabb(&plan.start);
+    work.reset_to_valid_aabb(&plan.start);
     work.clip_all(plan.hull.as_slice())?;
     if let Light::Spot { frustum, .. } = light {
         frustum.planes_into(&mut plan.light_planes);
@@ -574,7 +615,11 @@ fn compute_planned(out: &mut Body, plan: &mut Plan, view: &Frustum, light: &Ligh
     if answered {
         stats.float_path = true;
     } else {
-        let mut work = out.work.take().unwrap_or_else(|| Box::new(Polytope::from_aabb(&plan.start)));
+        let mut work = out.work.take().unwrap_or_else(|| {
+            let mut p = Box::new(Polytope::empty_with_capacity());
+            p.reset_to_valid_aabb(&plan.start);
+            p
+        });
         if let Err(e) = clip_exactly(&mut work, plan, view, light) {
             out.work = Some(work);
             out.clear();

@@ -85,7 +85,7 @@ const DUMMY_VERTEX: Vertex =
 const DUMMY_PLANE: Plane = Plane::Axis { axis: 0, upper: true, value: 0.0 };
 
 impl Polytope {
-    fn empty_with_capacity() -> Polytope {
+    pub(crate) fn empty_with_capacity() -> Polytope {
         Polytope {
             planes: [DUMMY_PLANE; MAX_PLANES],
             coef: [[Filtered { v: 0.0, e: 0.0 }; 4]; MAX_PLANES],
@@ -104,14 +104,28 @@ impl Polytope {
     }
 
     /// The closed box (a flat box gives a polygon, segment or point).
-    pub fn from_aabb(b: &Aabb) -> Polytope {
+    ///
+    /// The box is checked first (its fields are public, so it need not come
+    /// from [`Aabb::new`]): a NaN or infinite coordinate, or `min > max` on
+    /// some axis, is an error.
+    pub fn from_aabb(b: &Aabb) -> Result<Polytope, GeomError> {
+        b.validate()?;
         let mut p = Polytope::empty_with_capacity();
-        p.reset_to_aabb(b);
-        p
+        p.reset_to_valid_aabb(b);
+        Ok(p)
     }
 
-    /// Resets `self` to a box without touching the heap.
-    pub fn reset_to_aabb(&mut self, b: &Aabb) {
+    /// Resets `self` to a box without touching the heap; the box is checked
+    /// as in [`Polytope::from_aabb`], and on an error `self` is unchanged.
+    pub fn reset_to_aabb(&mut self, b: &Aabb) -> Result<(), GeomError> {
+        b.validate()?;
+        self.reset_to_valid_aabb(b);
+        Ok(())
+    }
+
+    /// [`Polytope::reset_to_aabb`] for a box already validated.
+    pub(crate) fn reset_to_valid_aabb(&mut self, b: &Aabb) {
+        debug_assert!(b.validate().is_ok());
         self.n_planes = 0;
         self.n_verts = 0;
         self.n_faces = 0;

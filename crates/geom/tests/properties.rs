@@ -383,7 +383,7 @@ fn hull_planes(c: &Case) -> Vec<Plane> {
 
 /// `V ∩ S ∩ L`, exactly.
 fn view_scene_spot(c: &Case) -> Result<Polytope, TestCaseError> {
-    let mut p = Polytope::from_aabb(&c.scene);
+    let mut p = Polytope::from_aabb(&c.scene).unwrap();
     geom(p.clip_all(c.view.frustum.planes().as_slice()))?;
     geom(p.clip_all(&spot_planes(c)))?;
     Ok(p)
@@ -408,7 +408,7 @@ fn same_set(a: &Polytope, b: &Polytope, what: &str) -> Result<(), TestCaseError>
 /// Whether `p` lies strictly outside the halfspace (exact: a point polytope
 /// is cut by the plane iff it lies strictly outside).
 fn strictly_outside(plane: &Plane, p: DVec3) -> bool {
-    let mut x = Polytope::from_aabb(&Aabb { min: p, max: p });
+    let mut x = Polytope::from_aabb(&Aabb { min: p, max: p }).unwrap();
     x.clip(plane).expect("finite plane")
 }
 
@@ -470,10 +470,10 @@ proptest! {
         let body = body_of(&c)?;
         let h_box = exact_of(&body)?;
         let h = &*h_box;
-        let s = Polytope::from_aabb(&c.scene);
+        let s = Polytope::from_aabb(&c.scene).unwrap();
         prop_assert!(geom(s.contains(h))?, "H ⊄ S");
         if let Some(f) = c.spot() {
-            let mut l = Polytope::from_aabb(&Aabb::around(f.corners()).unwrap());
+            let mut l = Polytope::from_aabb(&Aabb::around(f.corners()).unwrap()).unwrap();
             geom(l.clip_all(f.planes().as_slice()))?;
             prop_assert!(geom(l.contains(h))?, "H ⊄ L");
             let mut sl = s.clone();
@@ -499,7 +499,7 @@ proptest! {
                 prop_assert!(!strictly_outside(plane, l), "hull plane {} cuts off the light", k);
             }
         }
-        let mut m = Polytope::from_aabb(&enclosing_box(&c));
+        let mut m = Polytope::from_aabb(&enclosing_box(&c)).unwrap();
         geom(m.clip_all(&planes))?;
         prop_assert!(geom(m.contains(h))?, "H ⊄ hull(V ∪ l)");
     }
@@ -548,7 +548,7 @@ proptest! {
         let h = &*h_box;
         let (hull, spot) = (hull_planes(&c), spot_planes(&c));
         let from_s = |planes: &[Plane]| -> Result<Polytope, TestCaseError> {
-            let mut p = Polytope::from_aabb(&c.scene);
+            let mut p = Polytope::from_aabb(&c.scene).unwrap();
             geom(p.clip_all(planes))?;
             Ok(p)
         };
@@ -566,17 +566,17 @@ proptest! {
         same_set(h, &from_s(&reversed)?, "reversed")?;
         same_set(h, &from_s(&shuffled)?, "shuffled")?;
         // Box last, via intersect_aabb, starting from a box around everything.
-        let mut m = Polytope::from_aabb(&enclosing_box(&c));
+        let mut m = Polytope::from_aabb(&enclosing_box(&c)).unwrap();
         geom(m.clip_all(&hull))?;
         let m_only = m.clone();
         geom(m.intersect_aabb(&c.scene))?;
         geom(m.clip_all(&spot))?;
         same_set(h, &m, "box last")?;
         // S ∩ M and M ∩ S through `intersect` of polytopes.
-        let mut s_m = Polytope::from_aabb(&c.scene);
+        let mut s_m = Polytope::from_aabb(&c.scene).unwrap();
         geom(s_m.intersect(&m_only))?;
         let mut m_s = m_only.clone();
-        geom(m_s.intersect(&Polytope::from_aabb(&c.scene)))?;
+        geom(m_s.intersect(&Polytope::from_aabb(&c.scene).unwrap()))?;
         same_set(&s_m, &m_s, "S ∩ M vs M ∩ S")?;
         if spot.is_empty() {
             same_set(h, &s_m, "S ∩ M")?;
@@ -689,12 +689,12 @@ proptest! {
         // rounding of `min − g` and `max + g`.
         let g = DVec3::splat(tol * 1.01);
         let grown = Aabb { min: c.scene.min - g, max: c.scene.max + g };
-        let grown_s = Polytope::from_aabb(&grown);
+        let grown_s = Polytope::from_aabb(&grown).unwrap();
         for v in body.vertices() {
             prop_assert!(v.is_finite());
             prop_assert!(grown.contains(*v), "vertex {:?} is farther than {:e} from S", v, tol);
             prop_assert!(grown_s.contains_point(*v));
-            let mut around = Polytope::from_aabb(&Aabb { min: *v - g, max: *v + g });
+            let mut around = Polytope::from_aabb(&Aabb { min: *v - g, max: *v + g }).unwrap();
             geom(around.intersect(h))?;
             prop_assert!(!around.is_empty(), "vertex {:?} is farther than {:e} from the exact H", v, tol);
         }
@@ -834,7 +834,7 @@ proptest! {
         }
 
         // The polytope API: non-finite planes are errors, non-finite points are outside.
-        let mut p = Polytope::from_aabb(&scene);
+        let mut p = Polytope::from_aabb(&scene).unwrap();
         prop_assert!(p.clip(&Plane::Coefficients { normal: v, offset: 0.0 }).is_err(), "non-finite coefficients");
         prop_assert!(p.clip(&Plane::Axis { axis: axis as u8, upper: true, value: bad }).is_err(), "non-finite axis plane");
         prop_assert!(p.clip(&Plane::Points([DVec3::ZERO, DVec3::X, v])).is_err());
@@ -921,7 +921,7 @@ fn check_well_formed(c: &Case, body: &Body) -> Result<(), TestCaseError> {
         }
         Dimension::Polygon => {
             prop_assert_eq!(body.face_count(), 1, "a polygon has exactly one face");
-            let f = body.face(0);
+            let f = body.face(0).unwrap();
             prop_assert!(n >= 3);
             let mut seen = f.to_vec();
             seen.sort();

@@ -141,7 +141,7 @@ fn hull_with_a_non_finite_apex() {
     // A valid apex far away still keeps V.
     for apex in [Apex::Infinite(DVec3::new(1e300, 0.0, 0.0)), Apex::Finite(DVec3::new(0.0, 1e300, 0.0))] {
         let planes = view.hull_with(apex).unwrap();
-        let mut p = Polytope::from_aabb(&Aabb::new(DVec3::splat(-100.0), DVec3::splat(100.0)).unwrap());
+        let mut p = Polytope::from_aabb(&Aabb::new(DVec3::splat(-100.0), DVec3::splat(100.0)).unwrap()).unwrap();
         p.clip_all(planes.as_slice()).unwrap();
         assert!(p.contains_point(inside), "{apex:?}: the hull lost V's centre");
     }
@@ -184,7 +184,7 @@ fn volume_beyond_the_f64_range_is_infinite_not_nan() {
 fn clip_whose_orientation_underflows() {
     let eps = f64::EPSILON;
     let b = Aabb::new(DVec3::new(-1.0, -1.0, eps), DVec3::new(f64::MAX, 5e-324, f64::MAX)).unwrap();
-    let mut p = Polytope::from_aabb(&b);
+    let mut p = Polytope::from_aabb(&b).unwrap();
     let plane = Plane::Points([DVec3::new(eps, -1.0, eps), DVec3::new(f64::from_bits(41), 0.0, 0.0), DVec3::ZERO]);
     p.clip(&plane).unwrap();
     assert_eq!(p.dimension(), 1, "the plane touches the box along an edge");
@@ -205,7 +205,7 @@ fn clip_whose_orientation_underflows() {
 #[test]
 fn clip_with_orientation_outside_the_safe_range() {
     let e = f64::EPSILON;
-    let segment = Polytope::from_aabb(&Aabb::new(DVec3::new(e, e, e), DVec3::new(e, 12289.0, e)).unwrap());
+    let segment = Polytope::from_aabb(&Aabb::new(DVec3::new(e, e, e), DVec3::new(e, 12289.0, e)).unwrap()).unwrap();
     let plane = Plane::Points([
         DVec3::new(0.0, f64::from_bits(16501470511038005114), f64::from_bits(18295281948936896485)),
         DVec3::new(f64::from_bits(135012313726976), 0.0, 0.0),

@@ -4,7 +4,7 @@
 use glam::{DMat4, DVec3, DVec4, Mat4, Vec4};
 use proptest::prelude::*;
 use shadowfocus_focus::*;
-use shadowfocus_geom::{Aabb, Body, Camera, Frustum, Light};
+use shadowfocus_geom::{unit_direction, Aabb, Body, Camera, Frustum, Light};
 
 /// The GPU clip test in f64.
 pub fn inside_f64(m: &DMat4, p: DVec3) -> bool {
@@ -37,7 +37,7 @@ pub fn inside_f32(m: &Mat4, p: DVec3) -> bool {
 
 pub fn light_point(l: &Light) -> DVec4 {
     match *l {
-        Light::Directional { direction } => (-direction.normalize()).extend(0.0),
+        Light::Directional { direction } => (-unit_direction(direction)).extend(0.0),
         Light::Point { position } | Light::Spot { position, .. } => position.extend(1.0),
     }
 }
@@ -155,4 +155,107 @@ pub fn ndc(map: &ShadowMap, p: DVec3) -> DVec3 {
     let q = map.matrix * p.extend(1.0);
     let z = q.z / q.w;
     DVec3::new(q.x / q.w, q.y / q.w, if map.depth_test == DepthTest::Greater { 1.0 - z } else { z })
+}
+
+/// The r of split `i` of a point light's frame: every map of the split
+/// reports the same one, positive for a split with a cut (a truncated or
+/// cube-face map), and 0 only for a single map that cuts nothing.
+pub fn point_light_radius(out: &FocusResult, i: usize) -> Result<f64, TestCaseError> {
+    let maps: Vec<&ShadowMap> = out.maps().iter().filter(|m| m.split == i).collect();
+    prop_assert!(!maps.is_empty(), "split {i} has no map");
+    let r = maps[0].light_near;
+    prop_assert!(maps.iter().all(|m| m.light_near == r), "split {i}: maps report different r");
+    prop_assert!(r.is_finite() && r >= 0.0);
+    if r == 0.0 {
+        prop_assert!(maps.len() == 1 && matches!(maps[0].light, Light::Point { .. }), "split {i}: r = 0 for a map that cuts");
+    }
+    Ok(r)
+}
+
+/// Camera, scene box and light of one frame: the independent generators
+/// above, mixed on purpose with the cases they never produce by chance:
+///
+/// - the whole frame moved by `p ↦ o + k p` with `k` ∈ {1e-4, 1e6} (tiny and
+///   huge scenes) and `o` up to 1e8 from the origin (directions unchanged);
+/// - a directional light exactly parallel to the view direction (γ = 0),
+///   either way;
+/// - a point light exactly in the camera plane (an axis-aligned camera, the
+///   light sharing the eye's coordinate along the axis);
+/// - directional lights 1e200 and 1e-200 long.
+pub fn frame_strategy() -> impl Strategy<Value = (Camera, Aabb, Light)> {
+    let plain = (camera_strategy(), scene_strategy(), light_strategy());
+    let moved = (
+        (camera_strategy(), scene_strategy(), light_strategy()),
+        prop_oneof![Just(1.0), Just(1e-4), Just(1e6)],
+        prop_oneof![Just(DVec3::ZERO), Just(DVec3::new(1e8, 0.0, 0.0)), Just(DVec3::new(-7.5e7, 3e7, 1e8))],
+    )
+        .prop_map(|((cam, scene, light), k, o)| moved_frame(&cam, &scene, &light, k, o));
+    let gamma_zero = (camera_strategy(), scene_strategy(), any::<bool>())
+        .prop_map(|(cam, scene, toward)| (cam, scene, Light::directional(if toward { cam.forward } else { -cam.forward }).unwrap()));
+    let in_camera_plane = (axis_camera_strategy(), scene_strategy(), (-60.0..60.0f64, -60.0..60.0f64))
+        .prop_map(|(cam, scene, (a, b))| {
+            // The two axes other than the camera's: the light keeps the
+            // eye's coordinate along the view axis exactly.
+            let k = cam.forward.abs().max_position();
+            let mut l = cam.eye;
+            l[(k + 1) % 3] += a;
+            l[(k + 2) % 3] += b;
+            (cam, scene, Light::point(l).unwrap())
+        });
+    let long_short = (camera_strategy(), scene_strategy(), (0.0..std::f64::consts::TAU, -1.5..1.5f64), prop_oneof![Just(1e200), Just(1e-200), Just(1e300), Just(1e-300)])
+        .prop_map(|(cam, scene, (t, p), k)| (cam, scene, Light::directional(unit(t, p) * k).unwrap()));
+    prop_oneof![4 => plain, 3 => moved, 1 => gamma_zero, 1 => in_camera_plane, 1 => long_short]
+}
+
+/// A camera looking along ±X, ±Y or ±Z.
+pub fn axis_camera_strategy() -> impl Strategy<Value = Camera> {
+    (camera_strategy(), 0..6usize).prop_map(|(cam, k)| {
+        let axes = [DVec3::X, DVec3::NEG_X, DVec3::Y, DVec3::NEG_Y, DVec3::Z, DVec3::NEG_Z];
+        let forward = axes[k];
+        let up = if k / 2 == 1 { DVec3::Z } else { DVec3::Y };
+        Camera { forward, up, ..cam }
+    })
+}
+
+/// The frame under `p ↦ o + k p` (lengths scaled, directions kept).
+pub fn moved_frame(cam: &Camera, scene: &Aabb, light: &Light, k: f64, o: DVec3) -> (Camera, Aabb, Light) {
+    let p = |x: DVec3| o + x * k;
+    let cam2 = Camera { eye: p(cam.eye), near: cam.near * k, far: cam.far * k, ..*cam };
+    let scene2 = Aabb::new(p(scene.min), p(scene.max)).unwrap();
+    let light2 = match *light {
+        Light::Directional { direction } => Light::directional(direction).unwrap(),
+        Light::Point { position } => Light::point(p(position)).unwrap(),
+        // A spot frustum whose moved corners round into a degenerate one
+        // (small and far from the origin) becomes a point light there.
+        Light::Spot { position, frustum } => match Frustum::from_corners(frustum.corners().map(p)) {
+            Ok(f) => Light::spot(p(position), f).unwrap(),
+            Err(_) => Light::point(p(position)).unwrap(),
+        },
+    };
+    (cam2, scene2, light2)
+}
+
+/// Whether f32 positions resolve the frame: its coordinates at most 1e3
+/// times the scene box's extent (no large offset from the origin).
+pub fn modest_coordinates(cam: &Camera, scene: &Aabb) -> bool {
+    let mag = scene.min.abs().max(scene.max.abs()).max(cam.eye.abs()).max_element();
+    mag <= 1e3 * (scene.max - scene.min).max_element()
+}
+
+/// How far `(x/w, y/w, z/w)` under `m` can move when `p` moves by the
+/// rounding of its coordinates (4 ulps of its magnitude on each axis): the
+/// resolution at which a test can compare map coordinates of computed
+/// points (far from the origin it is coarse).
+pub fn ndc_sensitivity(m: &DMat4, p: DVec3) -> DVec3 {
+    let d = 4.0 * f64::EPSILON * p.abs().max_element();
+    let f = |q: DVec3| {
+        let v = *m * q.extend(1.0);
+        v.truncate() / v.w
+    };
+    let c = f(p);
+    (0..3).fold(DVec3::ZERO, |acc, k| {
+        let mut e = DVec3::ZERO;
+        e[k] = d;
+        acc + (f(p + e) - c).abs()
+    })
 }
