@@ -80,10 +80,26 @@ pub struct PreparedView {
 impl PreparedView {
     /// A view of `camera` with `settings` (see [`PreparedView::prepare`]).
     pub fn new(camera: &Camera, settings: &FocusSettings) -> Result<PreparedView, FocusError> {
-        let placeholder = CameraBasis { forward: DVec3::NEG_Z, right: DVec3::X, up: DVec3::Y };
-        let mut view = PreparedView { settings: *settings, camera: *camera, basis: placeholder, depths: [0.0; MAX_SPLITS + 1], splits: 0, frusta: [None; MAX_SPLITS], failed: None };
+        let mut view = PreparedView::unprepared(camera, settings);
         view.prepare(camera, settings)?;
         Ok(view)
+    }
+
+    /// A view holding no preparation yet, to be filled by `prepare` or
+    /// `prepare_frustum`.
+    fn unprepared(camera: &Camera, settings: &FocusSettings) -> PreparedView {
+        let placeholder = CameraBasis { forward: DVec3::NEG_Z, right: DVec3::X, up: DVec3::Y };
+        PreparedView { settings: *settings, camera: *camera, basis: placeholder, depths: [0.0; MAX_SPLITS + 1], splits: 0, frusta: [None; MAX_SPLITS], failed: None }
+    }
+
+    /// Keeps the outcome of a preparation: after an error the view holds
+    /// none, and every fit from it gives that error.
+    fn keep(&mut self, prepared: Result<(), FocusError>) -> Result<(), FocusError> {
+        self.failed = prepared.as_ref().err().cloned();
+        if self.failed.is_some() {
+            self.splits = 0;
+        }
+        prepared
     }
 
     /// Checks `camera` and `settings` and validates every split's frustum,
@@ -92,11 +108,7 @@ impl PreparedView {
     /// preparation, and [`fit_prepared`] gives that error again.
     pub fn prepare(&mut self, camera: &Camera, settings: &FocusSettings) -> Result<(), FocusError> {
         let prepared = self.fill(camera, settings, None);
-        self.failed = prepared.as_ref().err().cloned();
-        if self.failed.is_some() {
-            self.splits = 0;
-        }
-        prepared
+        self.keep(prepared)
     }
 
     /// [`PreparedView::prepare`] for a view given as a frustum (its eight
@@ -110,11 +122,7 @@ impl PreparedView {
     /// point of `view` lies in some split's frustum.
     pub fn prepare_frustum(&mut self, view: &Frustum, camera: &Camera, settings: &FocusSettings) -> Result<(), FocusError> {
         let prepared = self.fill(camera, settings, Some(view));
-        self.failed = prepared.as_ref().err().cloned();
-        if self.failed.is_some() {
-            self.splits = 0;
-        }
-        prepared
+        self.keep(prepared)
     }
 
     /// Checks the camera and settings and builds every split's frustum:
@@ -213,8 +221,7 @@ pub fn fit_prepared(view: &PreparedView, light: &Light, scene: &Aabb, out: &mut 
 /// engine fitting every frame keeps a [`PreparedView`] instead.
 pub fn fit_frustum(view: &Frustum, camera: &Camera, light: &Light, scene: &Aabb, settings: &FocusSettings, out: &mut FocusResult) -> Result<(), FocusError> {
     out.clear();
-    let placeholder = CameraBasis { forward: DVec3::NEG_Z, right: DVec3::X, up: DVec3::Y };
-    let mut pv = PreparedView { settings: *settings, camera: *camera, basis: placeholder, depths: [0.0; MAX_SPLITS + 1], splits: 0, frusta: [None; MAX_SPLITS], failed: None };
+    let mut pv = PreparedView::unprepared(camera, settings);
     pv.prepare_frustum(view, camera, settings)?;
     fit_prepared(&pv, light, scene, out)
 }

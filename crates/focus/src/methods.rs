@@ -9,7 +9,7 @@
 use crate::frame::{perpendicular_hint, tangent_frame};
 use crate::hull2::min_area_direction;
 use crate::predict::Samples;
-use crate::project::{apply_warp, central_projection, crop, from_rows, h, Central, Cropped, DepthKind, Warp};
+use crate::project::{apply_warp, central_projection, crop, from_rows, h, image_points, Central, Cropped, DepthKind, Warp};
 use crate::settings::{FocusSettings, MapOrientation, Method, WarpDirection};
 use glam::{DMat4, DVec2, DVec3, DVec4};
 use shadowfocus_geom::{unit_direction, Body, Camera, CameraBasis, Dimension, Light, MAX_VERTICES};
@@ -153,14 +153,7 @@ fn orient(m: &DMat4, verts: &[DVec3], sv: &SplitView) -> DMat4 {
 /// positive `w` (the crop refuses such a map anyway) or the image is a point.
 fn orient_min_area(m: &DMat4, verts: &[DVec3]) -> DMat4 {
     let mut q = [DVec2::ZERO; MAX_VERTICES];
-    for (o, p) in q.iter_mut().zip(verts) {
-        let c = *m * h(*p);
-        if !(c.w > 0.0) {
-            return *m;
-        }
-        *o = DVec2::new(c.x / c.w, c.y / c.w);
-    }
-    let Some(e) = min_area_direction(&mut q[..verts.len()]) else { return *m };
+    let Some(e) = image_points(m, verts, &mut q).and_then(min_area_direction) else { return *m };
     let perp = DVec2::new(-e.y, e.x);
     let dir = [e, -e, perp, -perp].into_iter().fold(e, |best, d| if d.y > best.y { d } else { best });
     rotate_image(m, dir)
@@ -429,6 +422,10 @@ pub(crate) fn post_perspective(cam: &Camera, b: &CameraBasis, shift: f64) -> DMa
 /// inverted light (`L'.w < 0`, behind the camera): the central projection
 /// handles all three with one formula, and the depth row's sign against
 /// `L'` gives the reversed test for the inverted case.
+///
+/// With the warp guard on, a PSM map predicted to alias more than the
+/// uniform map gives way to that map (`psm_fell_back`); `None` only where no
+/// PSM projection exists (the caller then fits the uniform map).
 fn psm(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted> {
     let cam = sv.camera;
     let b = &sv.basis;
@@ -462,7 +459,7 @@ fn psm(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted> {
     // PSM's texels follow the camera's perspective, which is not always
     // what the receivers need (a light behind or ahead of the viewer): it is
     // kept only where the prediction says it aliases no more than the
-    // uniform map; else the caller falls back to that map, and says so.
+    // uniform map; else that map is returned, marked as PSM's fallback.
     if !sv.settings.warp_guard {
         let mut out = Fitted::plain(m, Method::Psm);
         out.psm_shift = shift;
@@ -473,7 +470,7 @@ fn psm(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted> {
     let lpw = light_point(light);
     if let (Some(t), Some(p)) = (samples.judge(&reference.m, lpw), samples.predict(&m.m, lpw)) {
         if !p.no_worse_than(&t) {
-            return None;
+            return Some(Fitted { psm_fell_back: true, ..reference });
         }
     }
     let mut out = Fitted::plain(m, Method::Psm);

@@ -328,6 +328,27 @@ pub(crate) fn texel_size(m: &DMat4, light: DVec4, p: DVec3, res: u32) -> f64 {
     }
 }
 
+/// The image points `(x/w, y/w)` of `pts` under the clip matrix `m`,
+/// written into `out`; `None` where some point has no positive `w`.
+pub(crate) fn image_points<'a>(m: &DMat4, pts: &[DVec3], out: &'a mut [DVec2; MAX_VERTICES]) -> Option<&'a mut [DVec2]> {
+    for (o, p) in out.iter_mut().zip(pts) {
+        let c = *m * h(*p);
+        if !(c.w > 0.0) {
+            return None;
+        }
+        *o = DVec2::new(c.x / c.w, c.y / c.w);
+    }
+    Some(&mut out[..pts.len()])
+}
+
+/// Fraction of the map's image square `[−1, 1]²` covered by the projection
+/// of `pts` under the clip matrix `m` (every point with `w > 0`): the area
+/// of the convex hull of the projected points, divided by 4.
+pub(crate) fn utilisation(m: &DMat4, pts: &[DVec3]) -> f64 {
+    let mut q = [DVec2::ZERO; MAX_VERTICES];
+    image_points(m, pts, &mut q).map_or(0.0, |q| (0.25 * hull_area(q)).min(1.0))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -434,17 +455,3 @@ mod tests {
     }
 }
 
-/// Fraction of the map's image square `[−1, 1]²` covered by the projection
-/// of `pts` under the clip matrix `m` (every point with `w > 0`): the area
-/// of the convex hull of the projected points, divided by 4.
-pub(crate) fn utilisation(m: &DMat4, pts: &[DVec3]) -> f64 {
-    let mut q = [DVec2::ZERO; MAX_VERTICES];
-    for (o, p) in q.iter_mut().zip(pts) {
-        let c = *m * h(*p);
-        if !(c.w > 0.0) {
-            return 0.0;
-        }
-        *o = DVec2::new(c.x / c.w, c.y / c.w);
-    }
-    (0.25 * hull_area(&mut q[..pts.len()])).min(1.0)
-}
