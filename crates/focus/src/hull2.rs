@@ -3,7 +3,7 @@
 //! with the body ("no wasted map").
 //!
 //! Turns are decided with the exact orientation predicate (`robust`'s
-//! adaptive `orient2d`) on the rounded image points, so the hull is the
+//! adaptive `orient2d` [SHE97]) on the rounded image points, so the hull is the
 //! exact hull of those points; the rounding of the points themselves only
 //! steers the orientation, and the crop that follows makes the map
 //! conservative whatever the orientation is.
@@ -22,7 +22,7 @@ fn turn(o: DVec2, a: DVec2, b: DVec2) -> f64 {
 }
 
 /// Writes the convex hull of `pts` (sorted in place) counter-clockwise into
-/// `hull` and returns its vertex count (Andrew's monotone chain; collinear
+/// `hull` and returns its vertex count (the monotone chain of [AND79]; collinear
 /// points are dropped). `hull` needs room for `2 · pts.len()` points (the
 /// second chain starts where the first ended).
 pub(crate) fn convex_hull(pts: &mut [DVec2], hull: &mut [DVec2]) -> usize {

@@ -9,7 +9,9 @@
 use crate::frame::{perpendicular_hint, tangent_frame};
 use crate::hull2::min_area_direction;
 use crate::predict::Samples;
-use crate::project::{apply_warp, central_projection, crop, from_rows, h, image_points, Central, Cropped, DepthKind, Warp};
+#[cfg(doc)]
+use crate::predict::Predicted;
+use crate::project::{apply_warp, central_projection, crop, crop_estimate, from_rows, h, image_points, Central, Cropped, DepthKind, Warp};
 use crate::settings::{FocusSettings, MapOrientation, Method, WarpDirection};
 use glam::{DMat4, DVec2, DVec3, DVec4};
 use shadowfocus_geom::{unit_direction, Body, Camera, CameraBasis, Dimension, Light, MAX_VERTICES};
@@ -30,8 +32,9 @@ pub(crate) struct Fitted {
     pub psm_shift: f64,
     /// LiSPSM/TSM ended with no warp.
     pub warp_vanished: bool,
-    /// LiSPSM/TSM: the warp was weakened, or given up for the uniform map,
-    /// because the prediction said it would alias more (see `predict`).
+    /// The warp was weakened (LiSPSM/TSM: ε; PSM: the shift), or given up
+    /// for the uniform map, because the prediction said it would alias more
+    /// (see `predict`).
     pub warp_limited: bool,
     pub psm_fell_back: bool,
     pub stable_ignored: bool,
@@ -146,7 +149,8 @@ fn orient(m: &DMat4, verts: &[DVec3], sv: &SplitView) -> DMat4 {
 
 /// `m` turned so that the rectangle of least area around the image of
 /// `verts` is axis-aligned: the square map then fills with the body
-/// [SD02's focusing, with the image orientation free]. Of the four ways to
+/// ([PSM02]'s focusing, with the image orientation free; the rectangle
+/// [FS75]). Of the four ways to
 /// align it, the one nearest the current orientation (the least turn) is
 /// kept, so the camera-relative orientation of `references` survives where
 /// it is already a least-area one. `m` unchanged where a vertex has no
@@ -235,7 +239,7 @@ fn warped(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted> {
     // A reference point the light map sees: the near-plane centre, else the
     // body's centre (a point light beside the eye can have w ≤ 0 there).
     let p_ref = if image(&c.m, p_near).2 > 0.0 { p_near } else { c.centre };
-    // The warp runs along the image of the view direction [LISPSM]: image
+    // The warp runs along the image of the view direction [LISPSM04]: image
     // `y` is turned onto it. Where the view direction is (nearly) parallel
     // to the light it has no image direction and the warp no effect.
     let aligned = match s.orientation {
@@ -310,10 +314,14 @@ fn warped(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted> {
 
 /// The warp of `m` by `w`, or a weaker one, or the uniform map of the
 /// central projection `central`: whichever is strongest among those whose
-/// predicted aliasing ([`Samples`]) is no worse than the uniform map's in
-/// both the worst and the mean sample. Warps never lose to the uniform map
-/// by construction; the weakening steps (ε, ε/2, ε/4, then none) keep the
-/// choice close to continuous where the prediction crosses over.
+/// predicted aliasing ([`Samples`]) is no worse than the uniform map's
+/// ([`Predicted::no_worse_than`]). Warps never lose to the uniform map by
+/// construction; the weakening steps (ε, ε/2, …, ε/2^(WARP_STEPS−1), then
+/// none) keep the choice close to continuous where the prediction crosses
+/// over.
+/// Warp strengths tried before the uniform map: each halves ε.
+const WARP_STEPS: i32 = 5;
+
 fn choose_warp(sv: &SplitView, light: &Light, body: &Body, central: &DMat4, m: &DMat4, w: Warp) -> Option<Fitted> {
     let s = sv.settings;
     let verts = body.vertices();
@@ -337,17 +345,21 @@ fn choose_warp(sv: &SplitView, light: &Light, body: &Body, central: &DMat4, m: &
     let lp = light_point(light);
     let mut samples = Samples::new(sv, body);
     let target = samples.judge(&reference.m, lp);
-    for k in 0..3 {
+    for k in 0..WARP_STEPS {
         let epsilon = w.epsilon * 0.5f64.powi(k);
-        let Some(cropped) = crop(&apply_warp(m, &Warp { epsilon, ..w }), verts, s.f32_origin) else { continue };
-        let better = match (&target, samples.predict(&cropped.m, lp)) {
-            (Some(t), Some(p)) => p.no_worse_than(t),
+        let warped = apply_warp(m, &Warp { epsilon, ..w });
+        let better = match &target {
             // No sample to judge by (the split sees nothing of the body's
             // box): the warp as designed.
-            (None, _) => true,
-            (Some(_), None) => false,
+            None => true,
+            // NOTE: candidates are judged on their estimated crop (the same
+            // texel sizes to a few ulps); only the one kept is cropped.
+            Some(t) => crop_estimate(&warped, verts).and_then(|e| samples.predict(&e)).is_some_and(|p| p.no_worse_than(t)),
         };
-        if better {
+        if !better {
+            continue;
+        }
+        if let Some(cropped) = crop(&warped, verts, s.f32_origin) {
             let mut out = Fitted::plain(cropped, s.method);
             out.warp_near = 1.0 / epsilon;
             out.warp_limited = k > 0;
@@ -408,7 +420,8 @@ pub(crate) fn post_perspective(cam: &Camera, b: &CameraBasis, shift: f64) -> DMa
 }
 
 /// PSM: a uniform map from the transformed light in the camera's
-/// post-perspective space (§3), with the virtual camera shift of §4.2.
+/// post-perspective space [PSM02 §3], with the virtual camera shift of
+/// [PSM02 §4.2].
 ///
 /// Shift: with `z_min` the smallest view depth over `H`, the projection
 /// centre moves back by `max(0, n − z_min)`: the least shift that puts all
@@ -424,13 +437,22 @@ pub(crate) fn post_perspective(cam: &Camera, b: &CameraBasis, shift: f64) -> DMa
 /// `L'` gives the reversed test for the inverted case.
 ///
 /// With the warp guard on, a PSM map predicted to alias more than the
-/// uniform map gives way to that map (`psm_fell_back`); `None` only where no
-/// PSM projection exists (the caller then fits the uniform map).
+/// uniform map ([`Predicted::no_worse_than`]) is weakened by shifting the
+/// centre further back: with the extra shift `s`, `H` spans view depths
+/// `[z_min + s, z_max + s]` from the shifted centre, whose ratio tends to 1,
+/// so the post-perspective image tends to an affine one and the map to the
+/// uniform one. The extra shifts are `Δz·4^(k−2)` for `k = 1 … PSM_STEPS−1`
+/// (`Δz = z_max − z_min`), from a quarter of H's depth to sixteen times it;
+/// the first that the prediction accepts is kept, else the uniform map,
+/// marked as PSM's fallback (`psm_fell_back`). `None` only where no PSM
+/// projection exists (the caller then fits the uniform map).
 fn psm(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted> {
     let cam = sv.camera;
     let b = &sv.basis;
     let verts = body.vertices();
-    let zmin = verts.iter().map(|p| b.forward.dot(*p - cam.eye)).fold(f64::INFINITY, f64::min);
+    let depth = |p: &DVec3| b.forward.dot(*p - cam.eye);
+    let zmin = verts.iter().map(depth).fold(f64::INFINITY, f64::min);
+    let zmax = verts.iter().map(depth).fold(f64::NEG_INFINITY, f64::max);
     // NOTE: vertices on the near plane come back with depths a few ulps on
     // either side of `near`; such rounding noise is not a reach behind the
     // near plane. ρ bounds the error of the rounded vertex and of the dot
@@ -438,7 +460,45 @@ fn psm(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted> {
     let mag = verts.iter().map(|p| p.abs().max_element()).fold(0.0, f64::max) + cam.eye.abs().max_element();
     let rho = 16.0 * f64::EPSILON * (mag + cam.near);
     let shift = if zmin < cam.near - rho { cam.near - zmin } else { 0.0 };
-    let c = post_perspective(cam, b, shift);
+    let plain = |m: &DMat4, shift: f64| {
+        crop(m, verts, sv.settings.f32_origin).map(|c| {
+            let mut out = Fitted::plain(c, Method::Psm);
+            out.psm_shift = shift;
+            out
+        })
+    };
+    if !sv.settings.warp_guard {
+        return plain(&psm_map(sv, light, body, shift)?, shift);
+    }
+    let reference = uniform(sv, light, body)?;
+    let mut samples = Samples::new(sv, body);
+    let lp = light_point(light);
+    let Some(target) = samples.judge(&reference.m, lp) else { return plain(&psm_map(sv, light, body, shift)?, shift) };
+    let spread = zmax - zmin;
+    for k in 0..PSM_STEPS {
+        let s = shift + if k == 0 { 0.0 } else { spread * 4f64.powi(k - 2) };
+        let Some(m) = psm_map(sv, light, body, s) else { continue };
+        let accepted = crop_estimate(&m, verts).and_then(|e| samples.predict(&e)).is_some_and(|p| p.no_worse_than(&target));
+        if let Some(out) = accepted.then(|| plain(&m, s)).flatten() {
+            return Some(Fitted { warp_limited: k > 0, ..out });
+        }
+        if !(spread > 0.0) {
+            break;
+        }
+    }
+    Some(Fitted { psm_fell_back: true, ..reference })
+}
+
+/// PSM shifts tried before the uniform map: the least one, then four
+/// growing by 4× from a quarter of H's depth.
+const PSM_STEPS: i32 = 5;
+
+/// The PSM projection of `body` with the camera's centre moved back by
+/// `shift` (one that keeps every vertex in front of it), oriented, not yet
+/// cropped.
+fn psm_map(sv: &SplitView, light: &Light, body: &Body, shift: f64) -> Option<DMat4> {
+    let verts = body.vertices();
+    let c = post_perspective(sv.camera, &sv.basis, shift);
     let mut pts = [DVec3::ZERO; MAX_VERTICES];
     for (i, p) in verts.iter().enumerate() {
         let q = c * h(*p);
@@ -455,27 +515,7 @@ fn psm(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted> {
     // however wide the cone (a fallback; the maximin axis is tried first).
     let hint = (lp.w != 0.0).then(|| DVec3::new(0.0, 0.0, -lp.w.signum()));
     let lam = central_projection(lp, &pts[..verts.len()], DepthKind::Polar, v, w, hint)?;
-    let m = crop(&orient(&(lam.m * c), verts, sv), verts, sv.settings.f32_origin)?;
-    // PSM's texels follow the camera's perspective, which is not always
-    // what the receivers need (a light behind or ahead of the viewer): it is
-    // kept only where the prediction says it aliases no more than the
-    // uniform map; else that map is returned, marked as PSM's fallback.
-    if !sv.settings.warp_guard {
-        let mut out = Fitted::plain(m, Method::Psm);
-        out.psm_shift = shift;
-        return Some(out);
-    }
-    let reference = uniform(sv, light, body)?;
-    let mut samples = Samples::new(sv, body);
-    let lpw = light_point(light);
-    if let (Some(t), Some(p)) = (samples.judge(&reference.m, lpw), samples.predict(&m.m, lpw)) {
-        if !p.no_worse_than(&t) {
-            return Some(Fitted { psm_fell_back: true, ..reference });
-        }
-    }
-    let mut out = Fitted::plain(m, Method::Psm);
-    out.psm_shift = shift;
-    Some(out)
+    Some(orient(&(lam.m * c), verts, sv))
 }
 
 /// Largest absolute coordinate, quantised up to a power of two.

@@ -1,64 +1,98 @@
 //! Predicted perspective aliasing of a map, to compare parameterisations
 //! before choosing one.
 //!
-//! A receiver point `p` seen by the camera at view depth `z` is drawn over
-//! a screen pixel of world size proportional to `z`; the map draws it with
-//! a texel whose footprint, on the plane through `p` across the light ray,
-//! has the size `texel_size(p)` (see `project::texel_size`). The renderer's
-//! aliasing `e` (screen pixels per texel, as a square root of areas) is
-//! their ratio times factors that depend only on the receiver's
-//! orientation to the light and to the eye, and on the camera — the same
-//! for every map of one light. So two maps of one light compare exactly
-//! through
+//! The renderer's aliasing at a receiver point `p` (screen pixels per
+//! texel, as a square root of areas) is
 //!
-//! `q(p) = texel_size(p) / z(p)`,
+//! `e(p) = √(a_C(p, n) / a_M(p, n))`,
 //!
-//! point by point: that is the quantity LiSPSM's `n_opt` balances between
-//! the near and far ends of the view [LISPSM], without its restriction to
-//! the view axis.
+//! where `a_X(p, n)` is how much the projection `X` — the camera `C`, the
+//! map `M` — magnifies areas on the receiver's plane through `p` with
+//! normal `n` (`project::image_area_scale`); the constant factors of screen
+//! and map resolution are common to every map of one light and dropped.
+//! This is the quantity LiSPSM's `n_opt` balances between the near and far
+//! ends of the view [LISPSM04], without its restriction to the view axis
+//! and with the receiver's orientation to the light and to the eye in it.
 //!
-//! Where receivers are is not known to the fit, only that they lie in
-//! `V_i ∩ H`. The samples are points on nine rays of the split's camera (the
-//! corners, edge midpoints and centre of the image), clipped to the split's
-//! depth range and to the bounding box of `H`, at the clipped segment's
-//! ends and its depth-geometric middle: the near ends carry the worst
-//! undersampling, the rest the spread along the view.
+//! Where receivers are is not known to the fit, only that the visible ones
+//! lie in `V_i ∩ S`. Along one camera ray a warp that favours the near end
+//! (every LiSPSM, TSM and PSM map does) compares worst with the uniform map
+//! at the ray's far end, so the samples take the receiver there: the point
+//! where each of nine rays of the split's camera (the corners, edge
+//! midpoints and centre of the image) leaves the split's depth range or the
+//! bounding box of `H`, whichever comes first. That is the scene box's own
+//! boundary (a ground, a wall: the receiver's normal is that face's) or the
+//! split's far end (a receiver of unknown orientation, taken facing the
+//! light), never empty air in front of the camera: samples at the near
+//! plane, where a camera inside the scene box sees nothing, let a warp
+//! through that is better only there and worse on every surface actually
+//! seen. A receiver nearer than a ray's far end favours the warp, so the
+//! choice errs toward the uniform map, never toward a worse warp.
 
-use crate::methods::SplitView;
-use crate::project::texel_size;
+use crate::methods::{post_perspective, SplitView};
+use crate::project::image_area_scale;
 use glam::{DMat4, DVec3, DVec4};
 use shadowfocus_geom::Body;
 
-/// Most samples: nine rays, three points each.
-pub(crate) const MAX_SAMPLES: usize = 27;
+/// Most samples: one point on each of nine rays.
+pub(crate) const MAX_SAMPLES: usize = 9;
 
-/// Receiver samples of one split, with their view depths.
+/// Receiver samples of one split.
 pub(crate) struct Samples {
     pts: [DVec3; MAX_SAMPLES],
-    depth: [f64; MAX_SAMPLES],
+    /// The receiver's unit normal at each sample: the scene box face the
+    /// camera ray leaves through, or (`None`) the light's ray there, set by
+    /// [`Samples::judge`].
+    normal: [Option<DVec3>; MAX_SAMPLES],
+    /// The camera's area magnification `a_C` at each sample (after
+    /// [`Samples::judge`]).
+    camera: [f64; MAX_SAMPLES],
+    /// The camera's clip matrix (its area scale is all that is used).
+    clip_from_world: DMat4,
+    /// The reference map's aliasing at each sample, once [`Samples::judge`]
+    /// has run.
+    reference: [f64; MAX_SAMPLES],
     len: usize,
 }
 
-/// A map's predicted aliasing over the samples, in `q` units (relative:
-/// comparable between maps of one light and one split only).
+/// A map's predicted aliasing over the samples, up to a factor common to
+/// the maps of one light and one split (comparable between those only).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Predicted {
     pub max: f64,
     pub mean: f64,
+    /// Product over the samples of e / e_reference, at most 1 where their
+    /// geometric mean is: whether the map is better than the reference on
+    /// a typical sample, however the samples' magnitudes differ.
+    pub ratio_product: f64,
 }
 
 impl Predicted {
-    /// Whether `self` is at least as good as `other` in both the worst and
-    /// the mean sample.
+    /// Whether `self` is at least as good as the reference `other` in the
+    /// worst sample, in the mean sample and on the typical sample: the
+    /// rendered maximum, the bulk of the distribution (its p95) and the
+    /// receivers that are not the worst each get a say.
+    ///
+    /// NOTE: the receivers' orientation is part of `e` (their normal where
+    /// the ray meets the scene box): a warp's gain at the nearest receivers
+    /// then does not hide its loss on a far ground the light grazes, which
+    /// carries the view's worst aliasing under a low sun.
     pub fn no_worse_than(&self, other: &Predicted) -> bool {
-        self.max <= other.max && self.mean <= other.mean
+        self.max <= other.max && self.mean <= other.mean && self.ratio_product <= 1.0
     }
 }
 
 impl Samples {
     /// Samples of the split of `sv` inside the bounding box of `body`.
     pub fn new(sv: &SplitView, body: &Body) -> Samples {
-        let mut s = Samples { pts: [DVec3::ZERO; MAX_SAMPLES], depth: [0.0; MAX_SAMPLES], len: 0 };
+        let mut s = Samples {
+            pts: [DVec3::ZERO; MAX_SAMPLES],
+            normal: [None; MAX_SAMPLES],
+            camera: [0.0; MAX_SAMPLES],
+            clip_from_world: post_perspective(sv.camera, &sv.basis, 0.0),
+            reference: [1.0; MAX_SAMPLES],
+            len: 0,
+        };
         let (lo, hi) = bounds(body.vertices());
         let cam = sv.camera;
         let b = &sv.basis;
@@ -68,12 +102,10 @@ impl Samples {
             for gx in [-1.0, 0.0, 1.0] {
                 // The ray eye + z·d, z the view depth (d·forward = 1).
                 let d = b.forward + b.right * (gx * tx) + b.up * (gy * ty);
-                let Some((z0, z1)) = clip_ray(cam.eye, d, cam.near, cam.far, lo, hi) else { continue };
-                for z in [z0, (z0 * z1).sqrt(), z1] {
-                    s.pts[s.len] = cam.eye + d * z;
-                    s.depth[s.len] = z;
-                    s.len += 1;
-                }
+                let Some(exit) = clip_ray(cam.eye, d, cam.near, cam.far, lo, hi) else { continue };
+                s.pts[s.len] = cam.eye + d * exit.depth;
+                s.normal[s.len] = exit.axis.map(|k| DVec3::AXES[k]);
+                s.len += 1;
             }
         }
         s
@@ -84,27 +116,46 @@ impl Samples {
     pub fn judge(&mut self, reference: &DMat4, lp: DVec4) -> Option<Predicted> {
         let mut k = 0;
         for i in 0..self.len {
-            if texel_size(reference, lp, self.pts[i], 2).is_finite() {
-                self.pts[k] = self.pts[i];
-                self.depth[k] = self.depth[i];
+            let n = self.normal[i].unwrap_or_else(|| {
+                let t = self.pts[i] * lp.w - lp.truncate();
+                t / t.length()
+            });
+            self.pts[k] = self.pts[i];
+            self.normal[k] = Some(n);
+            self.camera[k] = image_area_scale(&self.clip_from_world, self.pts[i], n);
+            let e = self.aliasing(reference, k);
+            if e.is_finite() && e > 0.0 {
+                self.reference[k] = e;
                 k += 1;
             }
         }
         self.len = k;
-        self.predict(reference, lp)
+        self.predict(reference)
     }
 
-    /// The prediction for the clip matrix `m` of the light `lp` over the
-    /// samples kept by [`Samples::judge`]; one that `m` does not see makes
-    /// its maximum infinite.
-    pub fn predict(&self, m: &DMat4, lp: DVec4) -> Option<Predicted> {
-        let (mut max, mut sum) = (0.0f64, 0.0);
+    /// Aliasing of `m` at sample `i` (as `e` above, up to the common factor).
+    fn aliasing(&self, m: &DMat4, i: usize) -> f64 {
+        let n = self.normal[i].unwrap_or(DVec3::Z);
+        (self.camera[i] / image_area_scale(m, self.pts[i], n)).sqrt()
+    }
+
+    /// The prediction for the clip matrix `m` of the light given to
+    /// [`Samples::judge`] over the samples it kept; one that `m` does not
+    /// see makes the prediction fail every comparison.
+    pub fn predict(&self, m: &DMat4) -> Option<Predicted> {
+        let (mut max, mut sum, mut product) = (0.0f64, 0.0, 1.0);
         for i in 0..self.len {
-            let q = texel_size(m, lp, self.pts[i], 2) / self.depth[i];
-            max = max.max(q);
-            sum += q;
+            let e = self.aliasing(m, i);
+            max = max.max(e);
+            sum += e;
+            product *= e / self.reference[i];
         }
-        (self.len > 0).then(|| Predicted { max, mean: sum / self.len as f64 })
+        // NOTE: a NaN e (a sample the map cannot see) makes the maximum
+        // ignore it but the sum and the product NaN, and NaN compares false:
+        // refused. An overflow of the product (nine ratios beyond 1e34
+        // each) refuses the map too, and an underflow to 0 accepts only a
+        // map whose typical ratio is far below 1 anyway.
+        (self.len > 0).then(|| Predicted { max, mean: sum / self.len as f64, ratio_product: product })
     }
 }
 
@@ -117,10 +168,21 @@ fn bounds(pts: &[DVec3]) -> (DVec3, DVec3) {
     (lo, hi)
 }
 
-/// The depth range `[z0, z1] ⊆ [near, far]` where `eye + z·d` lies in the
-/// box `[lo, hi]` (slab clipping); `None` when empty.
-fn clip_ray(eye: DVec3, d: DVec3, near: f64, far: f64, lo: DVec3, hi: DVec3) -> Option<(f64, f64)> {
+/// Where a ray leaves a box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Exit {
+    /// The view depth of the exit point.
+    depth: f64,
+    /// The axis of the box face it leaves through; `None` where the ray
+    /// reaches `far` first.
+    axis: Option<usize>,
+}
+
+/// Where `eye + z·d`, `z ∈ [near, far]`, leaves the box `[lo, hi]` (slab
+/// clipping); `None` where it never is inside.
+fn clip_ray(eye: DVec3, d: DVec3, near: f64, far: f64, lo: DVec3, hi: DVec3) -> Option<Exit> {
     let (mut z0, mut z1) = (near, far);
+    let mut axis = None;
     for k in 0..3 {
         let (e, dk) = (eye[k], d[k]);
         if dk == 0.0 {
@@ -131,9 +193,12 @@ fn clip_ray(eye: DVec3, d: DVec3, near: f64, far: f64, lo: DVec3, hi: DVec3) -> 
         }
         let (a, b) = ((lo[k] - e) / dk, (hi[k] - e) / dk);
         z0 = z0.max(a.min(b));
-        z1 = z1.min(a.max(b));
+        if a.max(b) < z1 {
+            z1 = a.max(b);
+            axis = Some(k);
+        }
     }
-    (z0 <= z1 && z0 > 0.0).then_some((z0, z1))
+    (z0 <= z1 && z0 > 0.0).then_some(Exit { depth: z1, axis })
 }
 
 #[cfg(test)]
@@ -144,11 +209,14 @@ mod tests {
     fn ray_clipped_to_a_box() {
         let eye = DVec3::ZERO;
         let d = DVec3::new(0.0, -0.5, 1.0);
-        // The box y ∈ [−2, −1] is crossed between z = 2 and z = 4.
-        let r = clip_ray(eye, d, 0.1, 100.0, DVec3::new(-10.0, -2.0, -10.0), DVec3::new(10.0, -1.0, 10.0));
-        assert_eq!(r, Some((2.0, 4.0)));
+        let (lo, hi) = (DVec3::new(-10.0, -2.0, -10.0), DVec3::new(10.0, -1.0, 10.0));
+        // The box y ∈ [−2, −1] is crossed between z = 2 and z = 4, left
+        // through its face y = −2.
+        assert_eq!(clip_ray(eye, d, 0.1, 100.0, lo, hi), Some(Exit { depth: 4.0, axis: Some(1) }));
+        // Far inside the box: the ray ends there, on no face.
+        assert_eq!(clip_ray(eye, d, 0.1, 3.0, lo, hi), Some(Exit { depth: 3.0, axis: None }));
         // Beyond far: nothing.
-        assert_eq!(clip_ray(eye, d, 0.1, 1.5, DVec3::new(-10.0, -2.0, -10.0), DVec3::new(10.0, -1.0, 10.0)), None);
+        assert_eq!(clip_ray(eye, d, 0.1, 1.5, lo, hi), None);
         // Parallel to a slab and outside it.
         assert_eq!(clip_ray(eye, DVec3::Z, 0.1, 10.0, DVec3::new(1.0, -1.0, 0.0), DVec3::new(2.0, 1.0, 5.0)), None);
     }

@@ -188,6 +188,48 @@ const U64: f64 = f64::EPSILON / 2.0;
 /// rounding (u) and a 4-term dot product (≤ 4u), with room to spare.
 const K: f64 = 8.0;
 
+/// Centre and half extent of the image box of `pts` under `m`, the half
+/// extent at least 2⁻²⁰ of the overall scale (so that a flat or point body
+/// still gives a finite, invertible matrix); `None` where some point has no
+/// positive finite image.
+fn image_box(m: &DMat4, pts: &[DVec3]) -> Option<(DVec3, DVec3)> {
+    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    for p in pts {
+        let q = *m * h(*p);
+        if !(q.w > 0.0) || !q.is_finite() {
+            return None;
+        }
+        // NOTE: one reciprocal instead of three divisions: the centre and
+        // extents found here are only a starting point, which `crop` makes
+        // conservative.
+        let r = q.truncate() * (1.0 / q.w);
+        lo = lo.min(r);
+        hi = hi.max(r);
+    }
+    if !(lo.is_finite() && hi.is_finite()) {
+        return None;
+    }
+    let mut scale = lo.abs().max(hi.abs()).max(hi - lo).max_element();
+    if !(scale > 0.0) {
+        scale = 1.0;
+    }
+    let half = ((hi - lo) * 0.5).max(DVec3::splat(scale * (1.0 / (1u64 << 20) as f64)));
+    Some(((lo + hi) * 0.5, half))
+}
+
+/// `m` mapped so that the image box of `pts` fills the clip volume, as
+/// [`crop`] does but without its rounding allowance: the same texel sizes
+/// to a few ulps, for comparing candidate maps before the one kept is
+/// cropped (a fraction of `crop`'s cost). `None` where `crop` would refuse
+/// for want of a positive `w`.
+pub(crate) fn crop_estimate(m: &DMat4, pts: &[DVec3]) -> Option<DMat4> {
+    let (centre, half) = image_box(m, pts)?;
+    let (x, y, z, w) = (m.row(0), m.row(1), m.row(2), m.row(3));
+    let inv = DVec3::ONE / half;
+    let out = from_rows((x - w * centre.x) * inv.x, (y - w * centre.y) * inv.y, (z - w * centre.z + w * half.z) * (0.5 * inv.z), w);
+    out.is_finite().then_some(out)
+}
+
 /// The crop and whether its f32 guarantee holds.
 pub(crate) struct Cropped {
     pub m: DMat4,
@@ -219,31 +261,7 @@ pub(crate) struct Cropped {
 /// f32 cannot even keep the sign of `w` (`e_w ≥ W` for positions that far
 /// from the origin) only the f64 guarantee is kept and `f32_exact` is false.
 pub(crate) fn crop(m: &DMat4, pts: &[DVec3], origin: DVec3) -> Option<Cropped> {
-    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
-    for p in pts {
-        let q = *m * h(*p);
-        if !(q.w > 0.0) || !q.is_finite() {
-            return None;
-        }
-        // NOTE: one reciprocal instead of three divisions: the centre and
-        // extents found here are only a starting point, which the bounds
-        // below make conservative.
-        let r = q.truncate() * (1.0 / q.w);
-        lo = lo.min(r);
-        hi = hi.max(r);
-    }
-    if !(lo.is_finite() && hi.is_finite()) {
-        return None;
-    }
-    let centre = (lo + hi) * 0.5;
-    // Degenerate extents (flat or point bodies): at least 2⁻²⁰ of the
-    // overall scale, so the matrix stays finite and invertible.
-    let mut scale = lo.abs().max(hi.abs()).max(hi - lo).max_element();
-    if !(scale > 0.0) {
-        scale = 1.0;
-    }
-    let mut half = ((hi - lo) * 0.5).max(DVec3::splat(scale * (1.0 / (1u64 << 20) as f64)));
-
+    let (centre, mut half) = image_box(m, pts)?;
     let (x, y, z, w) = (m.row(0), m.row(1), m.row(2), m.row(3));
     let centred = [x - w * centre.x, y - w * centre.y, z - w * centre.z, w];
     // NOTE: with the f32 origin at zero the rows relative to it are the
@@ -303,29 +321,38 @@ pub(crate) fn crop(m: &DMat4, pts: &[DVec3], origin: DVec3) -> Option<Cropped> {
 /// texel covers on the plane through `p` perpendicular to the light ray,
 /// for a `res × res` map. `f64::INFINITY` where the map does not see `p`.
 pub(crate) fn texel_size(m: &DMat4, light: DVec4, p: DVec3, res: u32) -> f64 {
-    let q = *m * h(p);
     let t = p * light.w - light.truncate();
     let len = t.length();
-    if !(q.w > 0.0 && len > 0.0 && len.is_finite()) {
+    if !(len > 0.0 && len.is_finite()) {
         return f64::INFINITY;
     }
+    let s = (2.0 / res as f64) / image_area_scale(m, p, t / len).sqrt();
+    if s.is_finite() {
+        s
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// How much `m`'s image (`x/w`, `y/w`) magnifies areas on the plane
+/// through `p` perpendicular to the unit vector `t`: `|det|` of the image
+/// Jacobian restricted to that plane; NaN where `w ≤ 0` at `p`.
+pub(crate) fn image_area_scale(m: &DMat4, p: DVec3, t: DVec3) -> f64 {
+    let q = *m * h(p);
+    if !(q.w > 0.0) {
+        return f64::NAN;
+    }
     // The image gradients: d(x/w) = (x_row·w − x·w_row)/w², likewise for y.
-    // The area scale on the plane ⊥ t̂, in any orthonormal basis b₁, b₂ of
+    // The area scale on the plane ⊥ t, in any orthonormal basis b₁, b₂ of
     // it, is (g_x·b₁)(g_y·b₂) − (g_x·b₂)(g_y·b₁) = (g_x × g_y)·(b₁ × b₂),
-    // and b₁ × b₂ = t̂: no basis is needed.
+    // and b₁ × b₂ = t: no basis is needed.
     // NOTE: each gradient is divided by w² before the cross product, as the
     // quotient rule has it, so that a large w cannot overflow the product.
     let inv_w2 = 1.0 / (q.w * q.w);
     let w_row = m.row(3).truncate();
     let gx = (m.row(0).truncate() * q.w - w_row * q.x) * inv_w2;
     let gy = (m.row(1).truncate() * q.w - w_row * q.y) * inv_w2;
-    let det = gx.cross(gy).dot(t) / len;
-    let s = (2.0 / res as f64) / det.abs().sqrt();
-    if s.is_finite() {
-        s
-    } else {
-        f64::INFINITY
-    }
+    gx.cross(gy).dot(t).abs()
 }
 
 /// The image points `(x/w, y/w)` of `pts` under the clip matrix `m`,

@@ -246,9 +246,10 @@ flags! {
         /// the positions' f32 rounding (relative to `f32_origin`) is
         /// comparable to the body. The f64 matrix is still exact; rebase.
         F32_IMPRECISE = 5, "f32_imprecise";
-        /// LiSPSM/TSM: some map's warp was weakened, or replaced by the
-        /// uniform map, because it was predicted to alias more than the
-        /// uniform map fitted to the same body.
+        /// Some map's warp was weakened (LiSPSM/TSM: a smaller ε; PSM: a
+        /// longer virtual shift), or replaced by the uniform map, because
+        /// it was predicted to alias more than the uniform map fitted to
+        /// the same body.
         WARP_LIMITED = 6, "warp_limited";
     }
 }

@@ -31,7 +31,7 @@ impl Method {
     }
 }
 
-/// How the view depth range is cut into parallel splits (PSSM §3.3).
+/// How the view depth range is cut into parallel splits [PSSM06 §3.3].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum SplitScheme {
     /// `C_i = n + (f − n) i/m` (eq. 5).

@@ -1,4 +1,4 @@
-//! Parallel-split distances (PSSM §3.3) and the clip-space depths a shader
+//! Parallel-split distances [PSSM06 §3.3] and the clip-space depths a shader
 //! compares against to pick a split (PSSM eq. 8).
 
 use crate::settings::{SplitScheme, SplitSettings};

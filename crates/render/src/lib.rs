@@ -25,6 +25,7 @@ mod image;
 mod metrics;
 mod output;
 mod renderer;
+mod resolved;
 mod scene;
 mod scenes;
 pub mod testfit;

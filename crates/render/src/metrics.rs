@@ -7,6 +7,7 @@ use crate::gpu::AdapterSummary;
 use crate::ground_truth::Visibility;
 use crate::image::PixelMatch;
 use crate::renderer::{RenderOutput, RenderRequest};
+use crate::resolved::resolved_mask;
 use crate::types::RenderSettings;
 
 /// Screen pixels per shadow texel over the visible receiver pixels that a map covers and that
@@ -34,9 +35,11 @@ pub struct MismatchStats {
     pub false_shadow: u64,
     /// Rendered lit but truly shadowed.
     pub false_light: u64,
-    /// The mismatch rate over the pixels the map can resolve: off edges and with aliasing at most
-    /// [`ADEQUATE_ALIASING`] screen pixels per texel (a map can only get shadows wrong there
-    /// through a wrong bias, a lost caster or a broken depth order, not through undersampling).
+    /// The mismatch rate over the pixels the map can resolve: off edges, with aliasing at most
+    /// [`ADEQUATE_ALIASING`] screen pixels per texel, and with the ground truth at every texel
+    /// centre the shadow lookup reads (on the receiver's plane) equal to the pixel's own. A map can
+    /// only get shadows wrong there through a wrong bias, a lost caster or a broken depth order,
+    /// not through undersampling or filtering.
     pub rate_adequate: f64,
     pub adequate_pixels: u64,
     pub adequate_mismatched: u64,
@@ -250,13 +253,20 @@ fn off_edge_mask(out: &RenderOutput, truth: &[Visibility], r: u32) -> Vec<bool> 
     mask
 }
 
+/// `resolved(candidates)` says which of the candidate pixels (off edges, aliasing at most
+/// [`ADEQUATE_ALIASING`]) the map resolves (see `resolved.rs`); they make the adequate set.
 pub(crate) fn mismatch_stats(
     out: &RenderOutput,
     truth: &[Visibility],
     edge_radius: u32,
+    resolved: impl FnOnce(&[bool]) -> Vec<bool>,
 ) -> MismatchStats {
     let m = pixel_matches(out, truth, edge_radius);
     let off = off_edge_mask(out, truth, edge_radius);
+    // NOTE: NaN (background) and −1 (no map) fail both comparisons.
+    let sampled = |i: usize| off[i] && out.aliasing[i] >= 0.0 && out.aliasing[i] <= ADEQUATE_ALIASING;
+    let candidates: Vec<bool> = (0..m.len()).map(sampled).collect();
+    let resolved = resolved(&candidates);
     let mut s = MismatchStats::default();
     for (i, pm) in m.iter().enumerate() {
         if *pm == PixelMatch::Background {
@@ -266,9 +276,7 @@ pub(crate) fn mismatch_stats(
         if off[i] {
             s.off_edge_pixels += 1;
         }
-        // NaN (background) and −1 (no map) fail both comparisons.
-        let e = out.aliasing[i];
-        let adequate = off[i] && e >= 0.0 && e <= ADEQUATE_ALIASING;
+        let adequate = candidates[i] && resolved.get(i).copied().unwrap_or(false);
         if adequate {
             s.adequate_pixels += 1;
         }
@@ -380,7 +388,15 @@ pub(crate) fn compute(
         mismatch: out
             .truth
             .as_ref()
-            .map(|tr| mismatch_stats(out, tr, req.settings.edge_radius)),
+            .map(|tr| {
+                mismatch_stats(out, tr, req.settings.edge_radius, |candidates| {
+                    // The truth was cast through this cached ground truth a moment ago.
+                    match req.scene.ground_truth() {
+                        Ok(gt) => resolved_mask(out, tr, req.maps, &req.settings, &gt, candidates),
+                        Err(_) => vec![false; candidates.len()],
+                    }
+                })
+            }),
         coverage,
         casters: CasterStats {
             per_map,
@@ -453,7 +469,7 @@ mod tests {
     #[test]
     fn mismatches_split_into_edge_and_off_edge() {
         let (out, truth) = frame(10, 6);
-        let s = mismatch_stats(&out, &truth, 1);
+        let s = mismatch_stats(&out, &truth, 1, <[bool]>::to_vec);
         // Every right-half pixel is a false light; off-edge ones are the interior of the right
         // half: columns 6..=8 of rows 1..=4 (column 5 touches the lit half, 9 and rows 0, 5 the border).
         assert_eq!(s.pixels, 60);
@@ -477,7 +493,7 @@ mod tests {
                 out.aliasing[y * 10 + x] = if y == 2 { -1.0 } else { 0.5 * (x + 1) as f32 };
             }
         }
-        let s = mismatch_stats(&out, &truth, 1);
+        let s = mismatch_stats(&out, &truth, 1, <[bool]>::to_vec);
         // Off edges: columns 1..=3 and 6..=8 of rows 1..=4; e ≤ 2 keeps columns 1..=3 (e = 1,
         // 1.5, 2: the bound is inclusive); row 2 is uncovered. All of them are truly lit and
         // rendered lit.
@@ -490,7 +506,7 @@ mod tests {
                 out.aliasing[y * 10 + x] = if y == 2 { f32::NAN } else { 2.0 };
             }
         }
-        let s = mismatch_stats(&out, &truth, 1);
+        let s = mismatch_stats(&out, &truth, 1, <[bool]>::to_vec);
         assert_eq!((s.adequate_pixels, s.adequate_mismatched), (2 * 3 * 3, 3 * 3));
         assert!((s.rate_adequate - 0.5).abs() < 1e-12);
         // Just above the bound nothing on the right counts.
@@ -499,14 +515,14 @@ mod tests {
                 out.aliasing[y * 10 + x] = 2.0001;
             }
         }
-        let s = mismatch_stats(&out, &truth, 1);
+        let s = mismatch_stats(&out, &truth, 1, <[bool]>::to_vec);
         assert_eq!((s.adequate_pixels, s.adequate_mismatched), (3 * 3, 0));
     }
 
     #[test]
     fn adequate_rate_reaches_metrics_json() {
         let (mut out, truth) = frame(10, 6);
-        out.metrics.mismatch = Some(mismatch_stats(&out, &truth, 1));
+        out.metrics.mismatch = Some(mismatch_stats(&out, &truth, 1, <[bool]>::to_vec));
         let j = crate::output::metrics_json(&out.metrics, None);
         let m = &j["mismatch"];
         assert_eq!(m["adequate_pixels"].as_u64(), Some(2 * 3 * 4));
@@ -538,7 +554,7 @@ mod tests {
         for t in truth.iter_mut() {
             *t = Visibility::BackFacing;
         }
-        let s = mismatch_stats(&out, &truth, 1);
+        let s = mismatch_stats(&out, &truth, 1, <[bool]>::to_vec);
         assert_eq!(s.mismatched, 0);
         assert_eq!(s.pixels, 16);
     }

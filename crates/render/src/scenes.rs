@@ -374,7 +374,7 @@ fn terrain_height(x: f64, z: f64) -> f64 {
 }
 
 /// `forest`: 256 m × 256 m rolling terrain with 10,000 trees, directional light, camera at eye
-/// height near the forest edge, near 0.1, far 70, fov 45° (practical LiSPSM paper's setting).
+/// height near the forest edge, near 0.1, far 70, fov 45° ([SCH05]'s setting).
 pub fn forest() -> Result<Scene, RenderError> {
     let mut mb = MeshBuilder::default();
     let mut rng = Rng(0x5EED_F0E5_7000);

@@ -351,7 +351,7 @@ pub enum Pcf {
     Kernel { radius: u32 },
 }
 
-/// Eye-space, depth-dependent blur of the shadow term (practical LiSPSM paper §4.3).
+/// Eye-space, depth-dependent blur of the shadow term [SCH05 §4.3].
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct EyeBlur {
     /// Kernel radius in world units at the surface: a constant eye-space size, so its
@@ -379,7 +379,7 @@ pub enum DepthMode {
         slope_scale: f32,
         receiver_plane: bool,
     },
-    /// Linear light depth (practical paper §4.2): distance along the light direction (directional)
+    /// Linear light depth [SCH05 §4.2]: distance along the light direction (directional)
     /// or from the light (point, spot), normalised over the scene bounds, written per fragment and
     /// compared with "less" whatever the map's projective depth test. Bias = `constant` +
     /// `slope_scale` × max(|∂d/∂x|, |∂d/∂y|) per shadow-map texel, in normalised depth units.

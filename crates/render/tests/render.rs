@@ -174,6 +174,36 @@ fn a_wrong_depth_test_is_caught_by_the_mismatch_metric() {
         "a wrong depth test must show as a large mismatch, got {:.4}",
         b.rate
     );
+    // The pixels the map resolves hide no such error: there it shows at least as clearly.
+    assert!(g.adequate_pixels > 1000 && b.adequate_pixels > 1000, "{g:?} {b:?}");
+    assert!(
+        g.rate_adequate < 0.005 && b.rate_adequate > 0.1,
+        "adequately sampled: right {:.4}, wrong {:.4}",
+        g.rate_adequate,
+        b.rate_adequate
+    );
+}
+
+#[test]
+fn a_wider_filter_resolves_fewer_pixels_and_both_resolve_right() {
+    // The adequate set keeps pixels whose lookup reads only texels that agree with the pixel's
+    // ground truth: a wider PCF footprint reads more texels, so it can only keep fewer.
+    let scene = builtin_scene("forest").unwrap();
+    let map =
+        testfit::scene_box_map(&scene, &scene.camera, &scene.light, aspect(256, 144)).unwrap();
+    let maps = [map];
+    let mut req = RenderRequest::new(&scene, &maps);
+    small(&mut req, 256, 144, 2048);
+    let mut stats = Vec::new();
+    for pcf in [Pcf::Off, Pcf::Hardware2x2, Pcf::Kernel { radius: 2 }] {
+        req.settings.pcf = pcf;
+        let Some(out) = render(&req) else { return };
+        let m = out.metrics.mismatch.unwrap();
+        assert!(m.rate_adequate <= 0.005, "{pcf:?}: {m:?}");
+        stats.push(m.adequate_pixels);
+    }
+    eprintln!("adequate pixels, nearest / bilinear / 6×6 kernel: {stats:?}");
+    assert!(stats[0] >= stats[1] && stats[1] > stats[2] && stats[2] > 500, "{stats:?}");
 }
 
 #[test]
