@@ -9,3 +9,8 @@ pub use shadowfocus_geom as geom;
 pub use shadowfocus_render as render;
 
 pub mod cli;
+
+/// The README's Rust examples, compiled and run as doc tests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeExamples;
