@@ -163,13 +163,14 @@ fn run(command: Command) -> Result<bool, String> {
             Ok(true)
         }
         Command::Demo { out, size, resolution, scenes, overrides } => {
-            let scenes = if scenes.is_empty() {
-                shadowfocus::render::BUILTIN_SCENES.iter().map(|s| s.to_string()).collect()
-            } else {
-                scenes
-            };
+            let scenes =
+                if scenes.is_empty() { shadowfocus::render::BUILTIN_SCENES.iter().map(|s| s.to_string()).collect() } else { scenes };
             let summary = cli::render::demo(&out, size, resolution, &scenes, &overrides)?;
-            eprintln!("wrote {} renders and {}", summary["results"].as_array().map_or(0, |r| r.len()), out.join("contact_sheet.png").display());
+            eprintln!(
+                "wrote {} renders and {}",
+                summary["results"].as_array().map_or(0, |r| r.len()),
+                out.join("contact_sheet.png").display()
+            );
             Ok(true)
         }
     }

@@ -152,8 +152,15 @@ fn every_cgal_fixture_agrees() {
         }
     }
     assert!(total >= 3800, "expected the full fixture set, found {total} cases");
-    eprintln!("{total} fixtures checked, {ambiguous_total} with rounding-ambiguous vertices, {light_first_total} answered with L clipped first");
+    eprintln!(
+        "{total} fixtures checked, {ambiguous_total} with rounding-ambiguous vertices, {light_first_total} answered with L clipped first"
+    );
     // The second clipping order of spot lights is checked here too.
     assert!(light_first_total > 0, "no fixture takes the float path's L-first order");
-    assert!(failures.is_empty(), "{} of {total} fixtures disagree:\n{}", failures.len(), failures.iter().take(25).cloned().collect::<Vec<_>>().join("\n"));
+    assert!(
+        failures.is_empty(),
+        "{} of {total} fixtures disagree:\n{}",
+        failures.len(),
+        failures.iter().take(25).cloned().collect::<Vec<_>>().join("\n")
+    );
 }

@@ -47,7 +47,15 @@ static GLOBAL: Counting = Counting;
 
 #[test]
 fn fitting_a_frame_does_not_allocate() {
-    let cam = Camera { eye: DVec3::new(0.0, 2.0, 10.0), forward: DVec3::new(0.1, -0.1, -1.0), up: DVec3::Y, fovy: 1.0, aspect: 1.5, near: 0.5, far: 100.0 };
+    let cam = Camera {
+        eye: DVec3::new(0.0, 2.0, 10.0),
+        forward: DVec3::new(0.1, -0.1, -1.0),
+        up: DVec3::Y,
+        fovy: 1.0,
+        aspect: 1.5,
+        near: 0.5,
+        far: 100.0,
+    };
     let scene = Aabb::new(DVec3::new(-50.0, 0.0, -100.0), DVec3::new(50.0, 20.0, 20.0)).unwrap();
     let spot_cam = Camera { eye: DVec3::new(10.0, 30.0, 0.0), forward: DVec3::new(-0.2, -1.0, -0.5), ..cam };
     let lights = [
@@ -65,7 +73,8 @@ fn fitting_a_frame_does_not_allocate() {
             for method in [Method::Uniform, Method::Psm, Method::Lispsm, Method::Tsm] {
                 for count in [1, 4] {
                     for stable in [false, true] {
-                        let s = FocusSettings { method, stable, splits: SplitSettings { count, ..Default::default() }, ..Default::default() };
+                        let s =
+                            FocusSettings { method, stable, splits: SplitSettings { count, ..Default::default() }, ..Default::default() };
                         let a0 = allocations();
                         fit(&cam, light, &scene, &s, out).unwrap();
                         let a1 = allocations();
@@ -83,9 +92,17 @@ fn fitting_a_frame_does_not_allocate() {
                             continue;
                         }
                         assert_eq!(a2, a1, "culling allocated");
-                        assert!(a1 == a0 || exact_engine > 0, "{light:?} {method:?} {count} {stable}: {} allocations on the float path", a1 - a0);
+                        assert!(
+                            a1 == a0 || exact_engine > 0,
+                            "{light:?} {method:?} {count} {stable}: {} allocations on the float path",
+                            a1 - a0
+                        );
                         assert_eq!(a3, a2, "preparing a view allocated");
-                        assert!(a4 == a3 || exact_engine > 0, "{light:?} {method:?} {count} {stable}: {} allocations in fit_prepared", a4 - a3);
+                        assert!(
+                            a4 == a3 || exact_engine > 0,
+                            "{light:?} {method:?} {count} {stable}: {} allocations in fit_prepared",
+                            a4 - a3
+                        );
                     }
                 }
             }

@@ -77,7 +77,12 @@ fn violations(s: &Sweep) -> Vec<String> {
         if judged {
             for (what, ratio) in [("p95", r.p95_ratio), ("max", r.max_ratio)] {
                 if !(ratio <= WARP_LIMIT) {
-                    v.push(format!("{}: {what} aliasing {ratio:.3}× uniform's (limit {WARP_LIMIT}; p95 {:.2}, max {:.2})", r.label(), r.aliasing.p95, r.aliasing.max));
+                    v.push(format!(
+                        "{}: {what} aliasing {ratio:.3}× uniform's (limit {WARP_LIMIT}; p95 {:.2}, max {:.2})",
+                        r.label(),
+                        r.aliasing.p95,
+                        r.aliasing.max
+                    ));
                 }
             }
         }

@@ -7,9 +7,7 @@
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
 use shadowfocus_fuzz::{magnitude, FrustumIn, LightIn, SceneIn};
-use shadowfocus_geom::{
-    focus_body, focus_body_exact_into, focus_body_into, Aabb, Body, DVec3, Dimension, Frustum, Light, ROUNDING_ULPS,
-};
+use shadowfocus_geom::{focus_body, focus_body_exact_into, focus_body_into, Aabb, Body, DVec3, Dimension, Frustum, Light, ROUNDING_ULPS};
 use std::cell::RefCell;
 
 #[derive(Arbitrary, Debug)]
@@ -86,10 +84,13 @@ fuzz_target!(|input: Input| {
     let scene = input.scene.build(&view);
     let (Ok(light), Ok(scene)) = (light, scene) else { return };
     let result = focus_body(&view, &light, &scene);
-    let valid = scene.min.is_finite() && scene.max.is_finite() && scene.min.cmple(scene.max).all() && match light {
-        Light::Directional { direction } => direction.is_finite() && direction != DVec3::ZERO,
-        Light::Point { position } | Light::Spot { position, .. } => position.is_finite(),
-    };
+    let valid = scene.min.is_finite()
+        && scene.max.is_finite()
+        && scene.min.cmple(scene.max).all()
+        && match light {
+            Light::Directional { direction } => direction.is_finite() && direction != DVec3::ZERO,
+            Light::Point { position } | Light::Spot { position, .. } => position.is_finite(),
+        };
     assert_eq!(result.is_ok(), valid, "validity {valid} but {result:?}");
     let Ok(body) = result else { return };
 

@@ -20,7 +20,13 @@ fn settings(k: usize) -> FocusSettings {
     let count = [1, 3, 4][(k / 4) % 3];
     let scheme = [SplitScheme::Practical { lambda: 0.5 }, SplitScheme::Log, SplitScheme::Uniform][(k / 12) % 3];
     let point = if (k / 36) % 2 == 0 { PointMode::Single } else { PointMode::Cube };
-    FocusSettings { method, splits: SplitSettings { count, scheme, delta_bias: 0.0 }, point, stable: k % 5 == 0, ..FocusSettings::default() }
+    FocusSettings {
+        method,
+        splits: SplitSettings { count, scheme, delta_bias: 0.0 },
+        point,
+        stable: k % 5 == 0,
+        ..FocusSettings::default()
+    }
 }
 
 thread_local! {
@@ -44,7 +50,8 @@ fn compare(k: usize, line: &str) {
                 }
             },
         };
-        let from_view = prepare_case(v, &case, &cam, &s).and_then(|()| fit_prepared(v, &case.light, &case.scene, b).map_err(|e| e.to_string()));
+        let from_view =
+            prepare_case(v, &case, &cam, &s).and_then(|()| fit_prepared(v, &case.light, &case.scene, b).map_err(|e| e.to_string()));
         match (&direct, &from_view) {
             (Ok(()), Ok(())) => {}
             (Err(e), Err(f)) => {
@@ -64,7 +71,11 @@ fn compare(k: usize, line: &str) {
             }
             for p in x.body().vertices() {
                 let q = x.matrix * p.extend(1.0);
-                assert!(q.w > 0.0 && q.x.abs() <= q.w && q.y.abs() <= q.w && q.z >= 0.0 && q.z <= q.w, "vertex {p} of map {} outside its clip volume: {q}", x.split);
+                assert!(
+                    q.w > 0.0 && q.x.abs() <= q.w && q.y.abs() <= q.w && q.z >= 0.0 && q.z <= q.w,
+                    "vertex {p} of map {} outside its clip volume: {q}",
+                    x.split
+                );
             }
         }
     });

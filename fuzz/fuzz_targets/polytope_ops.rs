@@ -18,9 +18,16 @@ enum Op {
     ClipAll(Vec<PlaneIn>),
     IntersectAabb(V3, V3),
     /// Intersect with a box clipped by some planes.
-    Intersect { min: V3, max: V3, planes: Vec<PlaneIn> },
+    Intersect {
+        min: V3,
+        max: V3,
+        planes: Vec<PlaneIn>,
+    },
     /// Clip by the halfspaces of a frustum, or of its hull with a light.
-    Frustum { frustum: FrustumIn, light: Option<LightIn> },
+    Frustum {
+        frustum: FrustumIn,
+        light: Option<LightIn>,
+    },
     ContainsPoint(V3),
     Reset(V3, V3),
 }

@@ -59,12 +59,28 @@ pub fn v3(v: &V3) -> DVec3 {
 #[derive(Arbitrary, Clone, Debug)]
 pub enum FrustumIn {
     Corners(Box<[V3; 8]>),
-    Camera { eye: V3, forward: V3, up: V3, fovy_deg: Num, aspect: Num, near: Num, far: Num },
+    Camera {
+        eye: V3,
+        forward: V3,
+        up: V3,
+        fovy_deg: Num,
+        aspect: Num,
+        near: Num,
+        far: Num,
+    },
     /// An exact pyramid frustum: apex `eye`, depths `2^near_exp` and
     /// `2^near_exp · 2^(far_exp+1)`, half-extents `a/16`, `b/16` per unit
     /// depth, axes permuted and flipped by `map`; optionally one corner
     /// moved by a small offset (creased or broken sides).
-    Dyadic { eye: [i32; 3], near_exp: i8, far_exp: u8, a: u8, b: u8, map: u8, jitter: Option<(u8, [i8; 3], i8)> },
+    Dyadic {
+        eye: [i32; 3],
+        near_exp: i8,
+        far_exp: u8,
+        a: u8,
+        b: u8,
+        map: u8,
+        jitter: Option<(u8, [i8; 3], i8)>,
+    },
 }
 
 impl FrustumIn {
@@ -132,7 +148,10 @@ pub enum LightIn {
     Point(V3),
     AtCorner(u8),
     AtApex,
-    Spot { position: V3, frustum: FrustumIn },
+    Spot {
+        position: V3,
+        frustum: FrustumIn,
+    },
     /// A spot light whose frustum's apex is the light position.
     SpotAtApex(FrustumIn),
     RawDirectional(V3),
@@ -165,13 +184,22 @@ impl LightIn {
 /// A scene box description; `Raw` bypasses `Aabb::new`.
 #[derive(Arbitrary, Clone, Debug)]
 pub enum SceneIn {
-    New { min: V3, max: V3 },
-    Raw { min: V3, max: V3 },
+    New {
+        min: V3,
+        max: V3,
+    },
+    Raw {
+        min: V3,
+        max: V3,
+    },
     /// The box around two corners of V (touching V, often flat).
     Corners(u8, u8),
     /// The box around V, grown by `pad` times its size, flattened on the
     /// axes set in `flat` (through V's centre).
-    AroundView { pad: Num, flat: u8 },
+    AroundView {
+        pad: Num,
+        flat: u8,
+    },
 }
 
 impl SceneIn {
@@ -212,9 +240,7 @@ impl PlaneIn {
         match self {
             PlaneIn::Coefficients { normal, offset } => Plane::Coefficients { normal: v3(normal), offset: offset.get() },
             PlaneIn::Points(p) => Plane::Points(p.map(|x| v3(&x))),
-            PlaneIn::PointsDirection { p, q, direction } => {
-                Plane::PointsDirection { p: v3(p), q: v3(q), direction: v3(direction) }
-            }
+            PlaneIn::PointsDirection { p, q, direction } => Plane::PointsDirection { p: v3(p), q: v3(q), direction: v3(direction) },
             // Axis values ≥ 3 are not finite planes; they must be rejected.
             PlaneIn::Axis { axis, upper, value } => Plane::Axis { axis: axis % 4, upper: *upper, value: value.get() },
         }

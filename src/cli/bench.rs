@@ -5,11 +5,11 @@
 
 use super::fit::FitOptions;
 use super::render::fit_scene;
+use render::{RenderRequest, Renderer, Scene, ShadowMapSpec};
 use serde_json::{json, Value};
 use shadowfocus_eval::{bound, fixtures, plot, raster, stress, svg, table};
 use shadowfocus_focus::Method;
 use shadowfocus_render as render;
-use render::{RenderRequest, Renderer, Scene, ShadowMapSpec};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use table::Row;
@@ -67,7 +67,8 @@ pub fn configs(quick: bool, full: bool, res: u32) -> Vec<FitOptions> {
         v.push(opts(Method::Lispsm, 4, "practical", res));
         return v;
     }
-    let (counts, schemes): (&[usize], &[&str]) = if full { (&[2, 3, 4, 5, 6, 7, 8], &["uniform", "log", "practical"]) } else { (&[2, 4, 8], &["practical"]) };
+    let (counts, schemes): (&[usize], &[&str]) =
+        if full { (&[2, 3, 4, 5, 6, 7, 8], &["uniform", "log", "practical"]) } else { (&[2, 4, 8], &["practical"]) };
     for &m in &METHODS {
         for &k in counts {
             for s in schemes {
@@ -176,10 +177,12 @@ fn plots(dir: &Path, rows: &[Row]) -> Result<Vec<String>, String> {
         // Focusing time does not depend on the resolution: plot one
         // resolution per map (1024, or the nearest below it) so that each
         // configuration appears once.
-        let res = sel.iter().map(|r| r.resolution).filter(|&r| r <= 1024).max().or_else(|| sel.iter().map(|r| r.resolution).min()).unwrap_or(0);
+        let res =
+            sel.iter().map(|r| r.resolution).filter(|&r| r <= 1024).max().or_else(|| sel.iter().map(|r| r.resolution).min()).unwrap_or(0);
         let time_title = format!("{scene}: aliasing p95 vs focusing time ({res}² per map)");
         let mem_title = format!("{scene}: aliasing p95 vs texture memory");
-        let (time_x, mem_x, y) = ("focusing time per frame (µs, one thread)", "shadow-map memory (MiB)", "aliasing p95 (screen px per texel)");
+        let (time_x, mem_x, y) =
+            ("focusing time per frame (µs, one thread)", "shadow-map memory (MiB)", "aliasing p95 (screen px per texel)");
         let time_pts = pts(&|r| r.focusing_us, &|r| r.resolution == res);
         let mem_pts = pts(&|r| r.texture_bytes as f64 / 1048576.0, &|_| true);
         for (kind, title, x, points) in [("time", &time_title, time_x, &time_pts), ("memory", &mem_title, mem_x, &mem_pts)] {

@@ -1,8 +1,8 @@
 //! `shadowfocus body`: focus bodies for JSON-lines cases.
 
 use super::case::{case_lines, parse_case, Case};
-use serde_json::{json, Value};
 use parry3d_f64::transformation::try_convex_hull;
+use serde_json::{json, Value};
 use shadowfocus_geom::{focus_body_exact_into, focus_body_into, Body, Frustum, Light};
 use std::io::{BufRead, Write};
 use std::time::Instant;

@@ -53,18 +53,8 @@ struct RawCase {
 #[derive(Deserialize)]
 #[serde(untagged)]
 enum RawFrustum {
-    Corners {
-        corners: Vec<[f64; 3]>,
-    },
-    Camera {
-        eye: [f64; 3],
-        forward: [f64; 3],
-        up: [f64; 3],
-        fovy_deg: f64,
-        aspect: f64,
-        near: f64,
-        far: f64,
-    },
+    Corners { corners: Vec<[f64; 3]> },
+    Camera { eye: [f64; 3], forward: [f64; 3], up: [f64; 3], fovy_deg: f64, aspect: f64, near: f64, far: f64 },
 }
 
 #[derive(Deserialize)]
@@ -132,8 +122,7 @@ pub fn case_lines(input: impl std::io::BufRead) -> impl Iterator<Item = std::io:
 
 /// Parses and validates one line.
 pub fn parse_case(line: &str) -> Result<Case, CaseError> {
-    let value: Value = serde_json::from_str(line)
-        .map_err(|e| CaseError { id: Value::Null, message: format!("malformed JSON: {e}") })?;
+    let value: Value = serde_json::from_str(line).map_err(|e| CaseError { id: Value::Null, message: format!("malformed JSON: {e}") })?;
     let id = value.get("id").cloned().unwrap_or(Value::Null);
     let fail = |message: String| CaseError { id: id.clone(), message };
     let raw: RawCase = serde_json::from_value(value).map_err(|e| fail(format!("invalid case: {e}")))?;
@@ -151,17 +140,11 @@ pub fn parse_case(line: &str) -> Result<Case, CaseError> {
         RawLight::Point(p) => Light::point(v3(p)),
         RawLight::Spot(s) => {
             let frustum = match (&s.corners, s.forward, s.up, s.fovy_deg, s.aspect, s.near, s.far) {
-                (Some(c), None, None, None, None, None, None) => {
-                    Frustum::from_corners(corners8(c, "spot light").map_err(&fail)?)
-                }
+                (Some(c), None, None, None, None, None, None) => Frustum::from_corners(corners8(c, "spot light").map_err(&fail)?),
                 (None, Some(f), Some(u), Some(fov), Some(a), Some(n), Some(fa)) => {
                     Frustum::from_camera(&make_camera(s.position, f, u, fov, a, n, fa))
                 }
-                _ => {
-                    return Err(fail(
-                        "spot light needs either \"corners\" or all of forward, up, fovy_deg, aspect, near, far".into(),
-                    ))
-                }
+                _ => return Err(fail("spot light needs either \"corners\" or all of forward, up, fovy_deg, aspect, near, far".into())),
             }
             .map_err(|e| fail(geom(e)))?;
             Light::spot(v3(s.position), frustum)

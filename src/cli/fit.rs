@@ -3,7 +3,10 @@
 use super::body::{case_median_ns, median, p99};
 use super::case::{case_lines, parse_case, Case};
 use serde_json::{json, Value};
-use shadowfocus_focus::{camera_from_corners, fit, fit_frustum, fit_map, fit_prepared, FocusResult, FocusSettings, Method, PreparedView, SplitScheme, SplitSettings};
+use shadowfocus_focus::{
+    camera_from_corners, fit, fit_frustum, fit_map, fit_prepared, FocusResult, FocusSettings, Method, PreparedView, SplitScheme,
+    SplitSettings,
+};
 use shadowfocus_geom::{focus_body_into, Body, Camera, Frustum};
 use std::hint::black_box;
 use std::io::{BufRead, Write};
@@ -163,9 +166,11 @@ pub fn bench(input: impl BufRead, settings: &FocusSettings) -> std::io::Result<V
     let mut result = FocusResult::new();
     let mut ns: Vec<f64> = cases
         .iter()
-        .map(|(c, _)| case_median_ns(|| {
-            let _ = fit_case(c, settings, &mut result);
-        }))
+        .map(|(c, _)| {
+            case_median_ns(|| {
+                let _ = fit_case(c, settings, &mut result);
+            })
+        })
         .collect();
     let (mut prepare_ns, mut prepared_ns) = (Vec::new(), Vec::new());
     for (c, cam) in &cases {

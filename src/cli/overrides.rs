@@ -40,10 +40,9 @@ pub enum OverrideError {
 impl fmt::Display for OverrideError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            OverrideError::UnknownLightKind { given } => write!(
-                f,
-                "unknown light {given:?}: expected directional:DX,DY,DZ, point:X,Y,Z or spot:X,Y,Z,FX,FY,FZ,FOVY_DEG"
-            ),
+            OverrideError::UnknownLightKind { given } => {
+                write!(f, "unknown light {given:?}: expected directional:DX,DY,DZ, point:X,Y,Z or spot:X,Y,Z,FX,FY,FZ,FOVY_DEG")
+            }
             OverrideError::WrongCount { what, expected, got } => write!(f, "{what} takes {expected} numbers, got {got}"),
             OverrideError::NotANumber { what, index, text } => write!(f, "{what}: value {} ({text:?}) is not a number", index + 1),
             OverrideError::NonFinite { what, index, value } => write!(f, "{what}: value {} is {value}, not a finite number", index + 1),
@@ -133,11 +132,7 @@ pub fn parse_light(s: &str) -> Result<LightOverride, OverrideError> {
 /// The first of `candidates` not parallel to `forward`.
 fn up_for(forward: DVec3, candidates: &[DVec3]) -> DVec3 {
     let f = forward.normalize();
-    candidates
-        .iter()
-        .copied()
-        .find(|u| u.length() > 0.0 && f.cross(u.normalize()).length() > 1e-6)
-        .unwrap_or(DVec3::X)
+    candidates.iter().copied().find(|u| u.length() > 0.0 && f.cross(u.normalize()).length() > 1e-6).unwrap_or(DVec3::X)
 }
 
 impl LightOverride {

@@ -2,11 +2,11 @@
 
 use super::fit::FitOptions;
 use super::overrides::{Frame, Overrides};
+use render::{contact_sheet, write_outputs, Image, LightSpec, RenderRequest, Renderer, Scene, ShadowMapSpec};
 use serde_json::{json, Value};
 use shadowfocus_focus::{cull_casters, fit, DepthTest, FocusResult, FocusSettings, Method};
 use shadowfocus_geom::{Aabb, Camera, Frustum, Light};
 use shadowfocus_render as render;
-use render::{contact_sheet, write_outputs, Image, LightSpec, RenderRequest, Renderer, Scene, ShadowMapSpec};
 use std::path::Path;
 use std::time::Instant;
 
@@ -81,12 +81,25 @@ pub fn fit_frame(scene: &Scene, frame: &Frame, aspect: f64, settings: &FocusSett
 }
 
 /// Renders one scene with one configuration and writes its outputs.
-pub fn render_to(renderer: &mut Renderer, scene: &Scene, opts: &FitOptions, size: (u32, u32), dir: &Path) -> Result<render::RenderOutput, String> {
+pub fn render_to(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    opts: &FitOptions,
+    size: (u32, u32),
+    dir: &Path,
+) -> Result<render::RenderOutput, String> {
     render_frame_to(renderer, scene, &Frame::of(scene), opts, size, dir)
 }
 
 /// [`render_to`] with the camera and light of `frame`.
-pub fn render_frame_to(renderer: &mut Renderer, scene: &Scene, frame: &Frame, opts: &FitOptions, size: (u32, u32), dir: &Path) -> Result<render::RenderOutput, String> {
+pub fn render_frame_to(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    frame: &Frame,
+    opts: &FitOptions,
+    size: (u32, u32),
+    dir: &Path,
+) -> Result<render::RenderOutput, String> {
     let (out, extra) = render_frame(renderer, scene, frame, opts, size, true)?;
     write_outputs(dir, &out, Some(&extra)).map_err(|e| e.to_string())?;
     Ok(out)
@@ -96,13 +109,21 @@ pub fn render_frame_to(renderer: &mut Renderer, scene: &Scene, frame: &Frame, op
 /// when `maps` is set). Returns the output and the fields `metrics.json`
 /// adds in front of the renderer's metrics (method, focusing time, the
 /// fit's summary).
-pub fn render_frame(renderer: &mut Renderer, scene: &Scene, frame: &Frame, opts: &FitOptions, size: (u32, u32), maps: bool) -> Result<(render::RenderOutput, Value), String> {
+pub fn render_frame(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    frame: &Frame,
+    opts: &FitOptions,
+    size: (u32, u32),
+    maps: bool,
+) -> Result<(render::RenderOutput, Value), String> {
     let settings = opts.settings()?;
     let aspect = size.0 as f64 / size.1 as f64;
     let (specs, focusing_us, summary) = fit_frame(scene, frame, aspect, &settings)?;
     // Reported in the metrics; a map the body fills exactly can come out a
     // rounding error above 1.
-    let utilisation: Vec<f64> = summary["utilisation"].as_array().map_or(Vec::new(), |a| a.iter().filter_map(Value::as_f64).map(|u| u.clamp(0.0, 1.0)).collect());
+    let utilisation: Vec<f64> =
+        summary["utilisation"].as_array().map_or(Vec::new(), |a| a.iter().filter_map(Value::as_f64).map(|u| u.clamp(0.0, 1.0)).collect());
     let mut req = RenderRequest::new(scene, &specs);
     if utilisation.len() == specs.len() {
         req.utilisation = &utilisation;

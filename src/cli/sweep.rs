@@ -23,11 +23,13 @@ use super::fit::FitOptions;
 use super::overrides::{CameraOverride, Frame, LightOverride};
 use super::render::{parse_size, render_frame};
 use glam::DVec3;
+use render::{
+    contact_sheet, mismatch_view, shadow_map_images, write_outputs, AliasingStats, Image, LightSpec, MismatchStats, Renderer, Scene,
+};
 use serde_json::{json, Value};
 use shadowfocus_eval::lines::{self, Axes, Panel, Scale, Series};
 use shadowfocus_focus::Method;
 use shadowfocus_render as render;
-use render::{contact_sheet, mismatch_view, shadow_map_images, write_outputs, AliasingStats, Image, LightSpec, MismatchStats, Renderer, Scene};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
@@ -88,8 +90,14 @@ pub fn parse_sweep_method(s: &str) -> Result<SweepMethod, String> {
     };
     let digits = t.trim_start_matches(|c: char| c.is_ascii_alphabetic()).len();
     let (m, k) = t.split_at(t.len() - digits);
-    let method = super::fit::parse_method(m).map_err(|_| format!("unknown sweep method {s:?}: expected uniform, psm, lispsm, tsm, or one of them followed by a split count (lispsm4)"))?;
-    let splits = if k.is_empty() { 1 } else { k.parse::<usize>().ok().filter(|k| (1..=16).contains(k)).ok_or_else(|| format!("sweep method {s:?}: split count must be 1–16"))? };
+    let method = super::fit::parse_method(m).map_err(|_| {
+        format!("unknown sweep method {s:?}: expected uniform, psm, lispsm, tsm, or one of them followed by a split count (lispsm4)")
+    })?;
+    let splits = if k.is_empty() {
+        1
+    } else {
+        k.parse::<usize>().ok().filter(|k| (1..=16).contains(k)).ok_or_else(|| format!("sweep method {s:?}: split count must be 1–16"))?
+    };
     Ok(SweepMethod { name: if splits == 1 { m.to_string() } else { format!("{m}{splits}") }, method, splits })
 }
 
@@ -157,11 +165,22 @@ pub struct SweepPlan {
 
 impl SweepPlan {
     /// The grid of elevations × azimuths seen by `camera`.
-    pub fn grid(camera: render::CameraSpec, elevations: &[f64], azimuths: &[f64], methods: Vec<SweepMethod>, resolution: u32, size: (u32, u32)) -> SweepPlan {
+    pub fn grid(
+        camera: render::CameraSpec,
+        elevations: &[f64],
+        azimuths: &[f64],
+        methods: Vec<SweepMethod>,
+        resolution: u32,
+        size: (u32, u32),
+    ) -> SweepPlan {
         let mut lights = Vec::new();
         for &elevation in elevations {
             for &azimuth in azimuths {
-                lights.push(SweepLight { elevation, azimuth, light: LightSpec::Directional { direction: sun_direction(&camera, elevation, azimuth) } });
+                lights.push(SweepLight {
+                    elevation,
+                    azimuth,
+                    light: LightSpec::Directional { direction: sun_direction(&camera, elevation, azimuth) },
+                });
             }
         }
         SweepPlan { camera, lights, methods, resolution, size }
@@ -261,14 +280,26 @@ pub fn progress_line(done: usize, total: usize, what: &str) {
     }
 }
 
-fn render_one(renderer: &mut Renderer, scene: &Scene, plan: &SweepPlan, light: &SweepLight, m: &SweepMethod, maps: bool) -> Result<(render::RenderOutput, Value), String> {
+fn render_one(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    plan: &SweepPlan,
+    light: &SweepLight,
+    m: &SweepMethod,
+    maps: bool,
+) -> Result<(render::RenderOutput, Value), String> {
     let frame = Frame { camera: plan.camera, light: light.light };
     render_frame(renderer, scene, &frame, &m.options(plan.resolution), plan.size, maps)
 }
 
 /// Renders every configuration of `plan`, lights in order and every method
 /// at each; `progress(k, total, label)` is called before the k-th render.
-pub fn sweep(renderer: &mut Renderer, scene: &Scene, plan: &SweepPlan, mut progress: impl FnMut(usize, usize, &str)) -> Result<Sweep, String> {
+pub fn sweep(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    plan: &SweepPlan,
+    mut progress: impl FnMut(usize, usize, &str),
+) -> Result<Sweep, String> {
     let total = plan.lights.len() * plan.methods.len();
     let mut rows = Vec::with_capacity(total);
     for (li, light) in plan.lights.iter().enumerate() {
@@ -294,7 +325,8 @@ pub fn sweep(renderer: &mut Renderer, scene: &Scene, plan: &SweepPlan, mut progr
                 max_ratio: f64::NAN,
             };
             progress(rows.len() + 1, total, &row.label());
-            let (out, extra) = render_one(renderer, scene, plan, light, m, false).map_err(|e| format!("{} {}: {e}", scene.name, row.label()))?;
+            let (out, extra) =
+                render_one(renderer, scene, plan, light, m, false).map_err(|e| format!("{} {}: {e}", scene.name, row.label()))?;
             let met = &out.metrics;
             row.maps = met.maps;
             row.aliasing = met.aliasing;
@@ -303,7 +335,9 @@ pub fn sweep(renderer: &mut Renderer, scene: &Scene, plan: &SweepPlan, mut progr
             row.utilisation = met.map_utilisation.clone();
             row.utilisation_mean = met.utilisation_mean.unwrap_or(f64::NAN);
             row.utilisation_min = met.utilisation_min.unwrap_or(f64::NAN);
-            let names = |k: &str| fit[k].as_array().map_or(Vec::new(), |a| a.iter().filter_map(|v| v.as_str().map(str::to_owned)).collect::<Vec<_>>());
+            let names = |k: &str| {
+                fit[k].as_array().map_or(Vec::new(), |a| a.iter().filter_map(|v| v.as_str().map(str::to_owned)).collect::<Vec<_>>())
+            };
             row.notes = names("notes");
             row.notes.extend(names("skipped").into_iter().map(|s| format!("skipped:{s}")));
             rows.push(row);
@@ -446,7 +480,12 @@ fn azimuth_plot(sweep: &Sweep, value: impl Fn(&SweepRow) -> f64) -> Vec<Panel> {
                 .methods
                 .iter()
                 .map(|m| {
-                    let mut points: Vec<(f64, f64)> = sweep.rows.iter().filter(|r| r.method == m.name && r.elevation.total_cmp(&el).is_eq()).map(|r| (r.azimuth, value(r))).collect();
+                    let mut points: Vec<(f64, f64)> = sweep
+                        .rows
+                        .iter()
+                        .filter(|r| r.method == m.name && r.elevation.total_cmp(&el).is_eq())
+                        .map(|r| (r.azimuth, value(r)))
+                        .collect();
                     points.sort_by(|a, b| a.0.total_cmp(&b.0));
                     Series { name: m.name.clone(), points }
                 })
@@ -458,6 +497,9 @@ fn azimuth_plot(sweep: &Sweep, value: impl Fn(&SweepRow) -> f64) -> Vec<Panel> {
 fn write_file(path: &Path, bytes: &[u8]) -> Result<(), String> {
     std::fs::write(path, bytes).map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
+
+/// A sweep row's plotted quantity.
+type RowValue = dyn Fn(&SweepRow) -> f64;
 
 /// Writes the plots; the x axis spans the swept azimuths.
 fn write_plots(dir: &Path, sweep: &Sweep) -> Result<(), String> {
@@ -481,12 +523,23 @@ fn write_plots(dir: &Path, sweep: &Sweep) -> Result<(), String> {
         y_scale,
         guide,
     };
-    let plots: [(&str, Axes, &dyn Fn(&SweepRow) -> f64); 3] = [
-        ("aliasing_p95.png", base(format!("{scene}: p95 aliasing, {w}x{h}, {}²", sweep.plan.resolution), "screen pixels per texel (p95)", Scale::Log, None), &|r| r.aliasing.p95),
-        ("mismatch_off_edges.png", base(format!("{scene}: mismatch off shadow edges"), "pixels wrong, %", Scale::Linear, None), &|r| 100.0 * r.mismatch.rate_off_edges),
+    let plots: [(&str, Axes, &RowValue); 3] = [
+        (
+            "aliasing_p95.png",
+            base(format!("{scene}: p95 aliasing, {w}x{h}, {}²", sweep.plan.resolution), "screen pixels per texel (p95)", Scale::Log, None),
+            &|r| r.aliasing.p95,
+        ),
+        ("mismatch_off_edges.png", base(format!("{scene}: mismatch off shadow edges"), "pixels wrong, %", Scale::Linear, None), &|r| {
+            100.0 * r.mismatch.rate_off_edges
+        }),
         (
             "mismatch_adequate.png",
-            base(format!("{scene}: mismatch where the map resolves the shadow"), "pixels wrong, %", Scale::Linear, Some((100.0 * ADEQUATE_LIMIT, "0.5% limit".into()))),
+            base(
+                format!("{scene}: mismatch where the map resolves the shadow"),
+                "pixels wrong, %",
+                Scale::Linear,
+                Some((100.0 * ADEQUATE_LIMIT, "0.5% limit".into())),
+            ),
             &|r| 100.0 * r.mismatch.rate_adequate,
         ),
     ];
@@ -512,7 +565,11 @@ fn write_worst(dir: &Path, renderer: &mut Renderer, scene: &Scene, sweep: &Sweep
         let r = &sweep.rows[i];
         let m = &plan.methods[r.method_index];
         let (out, extra) = render_one(renderer, scene, plan, &plan.lights[r.light_index], m, true)?;
-        let folder = if r.elevation.is_finite() { format!("{:02}-{}-el{}-az{}", rank + 1, r.method, r.elevation, r.azimuth) } else { format!("{:02}-{}-light{}", rank + 1, r.method, r.light_index) };
+        let folder = if r.elevation.is_finite() {
+            format!("{:02}-{}-el{}-az{}", rank + 1, r.method, r.elevation, r.azimuth)
+        } else {
+            format!("{:02}-{}-light{}", rank + 1, r.method, r.light_index)
+        };
         write_outputs(&dir.join("worst").join(folder), &out, Some(&extra)).map_err(|e| e.to_string())?;
         let color = out.color.downscale(k);
         let th = color.height.max(1);
@@ -634,7 +691,15 @@ mod tests {
     fn worst_puts_wrong_shadows_first_then_aliasing_ratios() {
         let mut few = row("g", 0.5, 1.2);
         few.mismatch.adequate_pixels = MIN_ADEQUATE_PIXELS - 1;
-        let rows = [row("a", 0.0, 1.0), row("b", 0.001, 3.0), row("c", 0.02, 1.0), row("d", 0.3, 0.5), row("e", 0.0, f64::NAN), row("f", 0.0, 1.5), few];
+        let rows = [
+            row("a", 0.0, 1.0),
+            row("b", 0.001, 3.0),
+            row("c", 0.02, 1.0),
+            row("d", 0.3, 0.5),
+            row("e", 0.0, f64::NAN),
+            row("f", 0.0, 1.5),
+            few,
+        ];
         assert_eq!(worst(&rows), vec![3, 2, 1, 5, 6, 0, 4], "too few adequate pixels to rank by their mismatch");
     }
 

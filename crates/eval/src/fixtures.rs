@@ -108,7 +108,8 @@ fn parse(case: &Value, expected: &Value) -> Option<FixtureCase> {
 /// The cases of one fixture file that carry explicit view corners, and the
 /// number of lines that could not be read as such.
 pub fn read_file(dir: &Path, name: &str) -> Result<(Vec<FixtureCase>, usize), String> {
-    let read = |sub: &str| std::fs::read_to_string(dir.join(sub).join(format!("{name}.jsonl"))).map_err(|e| format!("{sub}/{name}.jsonl: {e}"));
+    let read =
+        |sub: &str| std::fs::read_to_string(dir.join(sub).join(format!("{name}.jsonl"))).map_err(|e| format!("{sub}/{name}.jsonl: {e}"));
     let (cases, expected) = (read("cases")?, read("expected")?);
     let mut out = Vec::new();
     let mut skipped = 0;

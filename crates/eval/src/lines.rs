@@ -56,7 +56,8 @@ const LEGEND: f64 = 150.0;
 /// on a log axis whole decades.
 fn y_range(axes: &Axes, panels: &[Panel]) -> (f64, f64) {
     let ok = |y: f64| y.is_finite() && (axes.y_scale == Scale::Linear || y > 0.0);
-    let mut ys: Vec<f64> = panels.iter().flat_map(|p| p.series.iter().flat_map(|s| s.points.iter().map(|q| q.1))).filter(|&y| ok(y)).collect();
+    let mut ys: Vec<f64> =
+        panels.iter().flat_map(|p| p.series.iter().flat_map(|s| s.points.iter().map(|q| q.1))).filter(|&y| ok(y)).collect();
     if let Some((g, _)) = &axes.guide {
         if ok(*g) {
             ys.push(*g);
@@ -240,10 +241,14 @@ mod tests {
     }
 
     fn panels() -> Vec<Panel> {
-        let s = |name: &str, k: f64| Series { name: name.into(), points: (0..12).map(|i| (30.0 * i as f64, k * (1.0 + i as f64))).collect() };
+        let s =
+            |name: &str, k: f64| Series { name: name.into(), points: (0..12).map(|i| (30.0 * i as f64, k * (1.0 + i as f64))).collect() };
         vec![
             Panel { title: "el 10".into(), series: vec![s("a", 1.0), s("b", 3.0)] },
-            Panel { title: "el 35".into(), series: vec![s("b", 2.0), Series { name: "c".into(), points: vec![(0.0, f64::NAN), (30.0, 0.0), (60.0, 4.0)] }] },
+            Panel {
+                title: "el 35".into(),
+                series: vec![s("b", 2.0), Series { name: "c".into(), points: vec![(0.0, f64::NAN), (30.0, 0.0), (60.0, 4.0)] }],
+            },
         ]
     }
 
@@ -252,7 +257,7 @@ mod tests {
         let p = panels();
         assert_eq!(y_range(&axes(Scale::Log), &p), (0.1, 100.0), "0.5 (the guide) to 36, zero left out");
         let (lo, hi) = y_range(&axes(Scale::Linear), &p);
-        assert!(lo == 0.0 && hi >= 36.0 && hi <= 40.0, "{lo} {hi}");
+        assert!(lo == 0.0 && (36.0..=40.0).contains(&hi), "{lo} {hi}");
         assert_eq!(series_names(&p), vec!["a", "b", "c"]);
         assert_eq!((nice_step(0.7), nice_step(3.0), nice_step(12.0)), (1.0, 5.0, 20.0));
         assert_eq!((tick_label(0.5), tick_label(100.0), tick_label(1e-6)), ("0.5".into(), "100".into(), "1e-6".into()));

@@ -126,7 +126,8 @@ impl Scale {
 
     /// `x / w` back in world units.
     fn rational(&self, x: &BigInt, w: &BigInt) -> BigRational {
-        let (num, den) = if self.exponent >= 0 { (x << self.exponent as usize, w.clone()) } else { (x.clone(), w << (-self.exponent) as usize) };
+        let (num, den) =
+            if self.exponent >= 0 { (x << self.exponent as usize, w.clone()) } else { (x.clone(), w << (-self.exponent) as usize) };
         BigRational::new(num, den)
     }
 }
@@ -242,7 +243,8 @@ fn same_point(p: &Homogeneous, q: &Homogeneous) -> bool {
 fn affine_dimension(v: &[Homogeneous]) -> i32 {
     let Some(first) = v.first() else { return -1 };
     // Differences scaled by W_i·W_0 stay integral and keep their direction.
-    let diffs: Vec<Vec3> = v[1..].iter().map(|p| std::array::from_fn(|i| &p.x[i] * &first.w - &first.x[i] * &p.w)).filter(|d: &Vec3| !is_zero(d)).collect();
+    let diffs: Vec<Vec3> =
+        v[1..].iter().map(|p| std::array::from_fn(|i| &p.x[i] * &first.w - &first.x[i] * &p.w)).filter(|d: &Vec3| !is_zero(d)).collect();
     let Some(a) = diffs.first() else { return 0 };
     let Some(normal) = diffs.iter().map(|b| cross(a, b)).find(|n| !is_zero(n)) else { return 1 };
     if diffs.iter().any(|c| !dot(&normal, c).is_zero()) {
@@ -317,8 +319,13 @@ pub struct Agreement {
 
 /// Compares computed vertices with the exact body.
 pub fn compare(exact: &ExactBody, dimension: i32, vertices: &[DVec3]) -> Agreement {
-    let ours: Vec<[BigRational; 3]> = vertices.iter().filter_map(|v| Some([BigRational::from_float(v.x)?, BigRational::from_float(v.y)?, BigRational::from_float(v.z)?])).collect();
-    let distance = |a: &[BigRational; 3], b: &[BigRational; 3]| (0..3).map(|i| (&a[i] - &b[i]).abs().to_f64().unwrap_or(f64::INFINITY)).fold(0.0, f64::max);
+    let ours: Vec<[BigRational; 3]> = vertices
+        .iter()
+        .filter_map(|v| Some([BigRational::from_float(v.x)?, BigRational::from_float(v.y)?, BigRational::from_float(v.z)?]))
+        .collect();
+    let distance = |a: &[BigRational; 3], b: &[BigRational; 3]| {
+        (0..3).map(|i| (&a[i] - &b[i]).abs().to_f64().unwrap_or(f64::INFINITY)).fold(0.0, f64::max)
+    };
     let nearest = |p: &[BigRational; 3], set: &[[BigRational; 3]]| set.iter().map(|q| distance(p, q)).fold(f64::INFINITY, f64::min);
     let mut err: f64 = 0.0;
     if ours.len() != vertices.len() {
@@ -333,7 +340,11 @@ pub fn compare(exact: &ExactBody, dimension: i32, vertices: &[DVec3]) -> Agreeme
     if exact.vertices.is_empty() && ours.is_empty() {
         err = 0.0;
     }
-    Agreement { dimension_matches: exact.dimension == dimension, vertex_counts_match: exact.vertices.len() == vertices.len(), max_vertex_error: err }
+    Agreement {
+        dimension_matches: exact.dimension == dimension,
+        vertex_counts_match: exact.vertices.len() == vertices.len(),
+        max_vertex_error: err,
+    }
 }
 
 /// An exact vertex rounded to f64 coordinates (for plotting and for

@@ -117,7 +117,15 @@ pub fn stress_cases() -> Vec<StressCase> {
     for k in 0..=15 {
         let d = 10f64.powi(k);
         let p = eye + DVec3::new(0.3, 1.0, 0.2).normalize() * d;
-        push(&mut v, "light_distance", d, format!("point light 1e{k}"), camera(eye, base_forward(), 0.5, 200.0), Light::Point { position: p }, base_scene);
+        push(
+            &mut v,
+            "light_distance",
+            d,
+            format!("point light 1e{k}"),
+            camera(eye, base_forward(), 0.5, 200.0),
+            Light::Point { position: p },
+            base_scene,
+        );
     }
     // γ, the angle between light and view direction: 0.1 … 1e-12 and 0,
     // light behind the viewer (same direction) and in front (opposite).
@@ -141,7 +149,15 @@ pub fn stress_cases() -> Vec<StressCase> {
     }
     for (tag, z) in [("on", -100.0f64), ("ulp+", (-100.0f64).next_up()), ("ulp-", (-100.0f64).next_down())] {
         let s = aabb(DVec3::new(-1000.0, -1000.0, z), DVec3::splat(1000.0));
-        push(&mut v, "coplanar", z, format!("S min.z at far plane ({tag})"), cam, Light::Point { position: DVec3::new(0.0, 500.0, -50.0) }, s);
+        push(
+            &mut v,
+            "coplanar",
+            z,
+            format!("S min.z at far plane ({tag})"),
+            cam,
+            Light::Point { position: DVec3::new(0.0, 500.0, -50.0) },
+            s,
+        );
     }
     if let Ok(c) = cam.corners() {
         let top = c[6].y; // far top corner height
@@ -155,13 +171,37 @@ pub fn stress_cases() -> Vec<StressCase> {
     let flat = aabb(DVec3::new(-1000.0, -1000.0, -1.0), DVec3::new(1000.0, 1000.0, -1.0));
     push(&mut v, "coplanar", -1.0, "S flat in the near plane".into(), cam, sun(), flat);
     if let Ok(c) = cam.corners() {
-        push(&mut v, "coplanar", c[6].z, "S = a far corner of V".into(), cam, Light::Point { position: DVec3::new(0.0, 500.0, -50.0) }, aabb(c[6], c[6]));
+        push(
+            &mut v,
+            "coplanar",
+            c[6].z,
+            "S = a far corner of V".into(),
+            cam,
+            Light::Point { position: DVec3::new(0.0, 500.0, -50.0) },
+            aabb(c[6], c[6]),
+        );
     }
     for (tag, z) in [("on", -1.0f64), ("ulp+", (-1.0f64).next_up()), ("ulp-", (-1.0f64).next_down())] {
-        push(&mut v, "coplanar", z, format!("point light in near plane ({tag})"), cam, Light::Point { position: DVec3::new(0.0, 50.0, z) }, wide);
+        push(
+            &mut v,
+            "coplanar",
+            z,
+            format!("point light in near plane ({tag})"),
+            cam,
+            Light::Point { position: DVec3::new(0.0, 50.0, z) },
+            wide,
+        );
     }
     for (tag, dz) in [("on", 0.0), ("ulp", f64::EPSILON), ("-ulp", -f64::EPSILON)] {
-        push(&mut v, "coplanar", dz, format!("light parallel to near plane ({tag})"), cam, Light::Directional { direction: DVec3::new(0.0, -1.0, dz) }, wide);
+        push(
+            &mut v,
+            "coplanar",
+            dz,
+            format!("light parallel to near plane ({tag})"),
+            cam,
+            Light::Directional { direction: DVec3::new(0.0, -1.0, dz) },
+            wide,
+        );
     }
     // Tiny (1e-6) to huge (1e9) scenes: the base scene scaled.
     for k in [-6, -3, 0, 3, 6, 9] {
@@ -173,7 +213,8 @@ pub fn stress_cases() -> Vec<StressCase> {
 }
 
 fn magnitude(c: &StressCase) -> f64 {
-    let mut m = c.camera.eye.abs().max_element().max(c.camera.far).max(c.scene.min.abs().max_element()).max(c.scene.max.abs().max_element());
+    let mut m =
+        c.camera.eye.abs().max_element().max(c.camera.far).max(c.scene.min.abs().max_element()).max(c.scene.max.abs().max_element());
     if let Light::Point { position } = c.light {
         m = m.max(position.abs().max_element());
     }
@@ -198,11 +239,13 @@ pub fn in_clip_volume(m: &DMat4, v: DVec3) -> bool {
     c.w > 0.0 && c.x.abs() <= c.w && c.y.abs() <= c.w && c.z >= 0.0 && c.z <= c.w
 }
 
-const FIT_METHODS: [(Method, usize); 5] = [(Method::Uniform, 1), (Method::Psm, 1), (Method::Lispsm, 1), (Method::Tsm, 1), (Method::Lispsm, 4)];
+const FIT_METHODS: [(Method, usize); 5] =
+    [(Method::Uniform, 1), (Method::Psm, 1), (Method::Lispsm, 1), (Method::Tsm, 1), (Method::Lispsm, 4)];
 
 fn check_fits(c: &StressCase, o: &mut StressOutcome, result: &mut FocusResult) {
     for (method, splits) in FIT_METHODS {
-        let settings = FocusSettings { method, splits: SplitSettings { count: splits, ..SplitSettings::default() }, ..FocusSettings::default() };
+        let settings =
+            FocusSettings { method, splits: SplitSettings { count: splits, ..SplitSettings::default() }, ..FocusSettings::default() };
         if let Err(e) = fit(&c.camera, &c.light, &c.scene, &settings, result) {
             o.fit_errors.push(format!("{}x{splits}: {e}", method.name()));
             continue;

@@ -132,7 +132,15 @@ pub fn budget_markdown(rows: &[Row], texels: u64) -> String {
     for r in sel {
         s.push_str(&format!(
             "| {} | {} | {} | {:.0} | {:.2} | {:.2} | {:.2} | {:.2} | {:.3} |\n",
-            r.scene, r.config, r.resolution, r.focusing_us, r.aliasing_max, r.aliasing_p95, r.aliasing_mean, r.ratio, 100.0 * r.mismatch_rate
+            r.scene,
+            r.config,
+            r.resolution,
+            r.focusing_us,
+            r.aliasing_max,
+            r.aliasing_p95,
+            r.aliasing_mean,
+            r.ratio,
+            100.0 * r.mismatch_rate
         ));
     }
     s
@@ -150,7 +158,16 @@ pub fn skips_markdown(rows: &[Row]) -> String {
             let saved = if off.shadow_pass_ms > 0.0 { 100.0 * (1.0 - on.shadow_pass_ms / off.shadow_pass_ms) } else { 0.0 };
             s.push_str(&format!(
                 "| {} | {} | {} | {}/{} | {}/{} | {:.2}/{:.2} | {:.0} |\n",
-                on.scene, on.config, on.resolution, on.maps_active, off.maps_active, on.casters_drawn, off.casters_drawn, on.shadow_pass_ms, off.shadow_pass_ms, saved
+                on.scene,
+                on.config,
+                on.resolution,
+                on.maps_active,
+                off.maps_active,
+                on.casters_drawn,
+                off.casters_drawn,
+                on.shadow_pass_ms,
+                off.shadow_pass_ms,
+                saved
             ));
         }
     }
@@ -183,7 +200,15 @@ mod tests {
 
     #[test]
     fn budget_table_keeps_equal_budgets_only() {
-        let row = |config: &str, splits, resolution, p95| Row { scene: "s".into(), config: config.into(), splits, resolution, plan: true, aliasing_p95: p95, ..Row::default() };
+        let row = |config: &str, splits, resolution, p95| Row {
+            scene: "s".into(),
+            config: config.into(),
+            splits,
+            resolution,
+            plan: true,
+            aliasing_p95: p95,
+            ..Row::default()
+        };
         let rows = [row("a", 1, 1024, 2.0), row("b", 4, 512, 1.0), row("c", 1, 512, 0.5), row("d", 8, 512, 0.1)];
         let md = budget_markdown(&rows, 1024 * 1024);
         let lines: Vec<&str> = md.lines().skip(2).collect();

@@ -20,7 +20,13 @@ fn oracle_agrees_with_the_cgal_fixtures() {
             assert!(a.vertex_counts_match, "{file} {}: {} exact vertices, CGAL has {}", c.id, h.vertices.len(), c.expected_vertices.len());
             // CGAL's vertices are the exact ones rounded to nearest: half an
             // ulp per coordinate, at most an ulp of the case's magnitude.
-            assert!(a.max_vertex_error <= f64::EPSILON * c.magnitude, "{file} {}: vertex error {:e} (magnitude {:e})", c.id, a.max_vertex_error, c.magnitude);
+            assert!(
+                a.max_vertex_error <= f64::EPSILON * c.magnitude,
+                "{file} {}: vertex error {:e} (magnitude {:e})",
+                c.id,
+                a.max_vertex_error,
+                c.magnitude
+            );
             by_dimension[(h.dimension + 1) as usize] += 1;
             checked += 1;
         }

@@ -26,7 +26,11 @@ fn every_family_is_swept() {
 fn body_agrees_with_the_big_integer_oracle() {
     for o in outcomes() {
         assert!(o.body_error.is_none(), "{} {}: {:?}", o.family, o.label, o.body_error);
-        assert!(o.oracle_agrees, "{} {}: ours dim {} with {} vertices, exact dim {} with {}", o.family, o.label, o.dimension, o.vertices, o.oracle_dimension, o.oracle_vertices);
+        assert!(
+            o.oracle_agrees,
+            "{} {}: ours dim {} with {} vertices, exact dim {} with {}",
+            o.family, o.label, o.dimension, o.vertices, o.oracle_dimension, o.oracle_vertices
+        );
         // Rounding to nearest moves a vertex by at most half an ulp of its
         // largest coordinate; the body engine promises a few ulps.
         assert!(o.oracle_error <= 16.0 * f64::EPSILON, "{} {}: vertex error {:e} of the magnitude", o.family, o.label, o.oracle_error);
@@ -52,7 +56,11 @@ fn body_never_loses_a_view_corner_inside_the_scene() {
 fn fitted_maps_contain_their_bodies() {
     for o in outcomes() {
         assert!(o.fit_errors.is_empty(), "{} {}: {:?}", o.family, o.label, o.fit_errors);
-        assert_eq!(o.maps_not_containing, 0, "{} {}: {} of {} maps leave H outside the clip volume", o.family, o.label, o.maps_not_containing, o.maps_checked);
+        assert_eq!(
+            o.maps_not_containing, 0,
+            "{} {}: {} of {} maps leave H outside the clip volume",
+            o.family, o.label, o.maps_not_containing, o.maps_checked
+        );
     }
     assert!(outcomes().iter().all(|o| o.dimension != 3 || o.maps_checked > 0));
 }

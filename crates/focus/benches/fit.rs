@@ -3,7 +3,10 @@
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use glam::DVec3;
-use shadowfocus_focus::{cull_casters, fit, fit_map, fit_prepared, CasterRegion, FocusResult, FocusSettings, Method, PointMode, PreparedView, SplitScheme, SplitSettings};
+use shadowfocus_focus::{
+    cull_casters, fit, fit_map, fit_prepared, CasterRegion, FocusResult, FocusSettings, Method, PointMode, PreparedView, SplitScheme,
+    SplitSettings,
+};
 use shadowfocus_geom::{focus_body, Aabb, Camera, Frustum, Light};
 
 fn camera() -> Camera {

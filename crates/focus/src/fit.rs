@@ -89,7 +89,15 @@ impl PreparedView {
     /// `prepare_frustum`.
     fn unprepared(camera: &Camera, settings: &FocusSettings) -> PreparedView {
         let placeholder = CameraBasis { forward: DVec3::NEG_Z, right: DVec3::X, up: DVec3::Y };
-        PreparedView { settings: *settings, camera: *camera, basis: placeholder, depths: [0.0; MAX_SPLITS + 1], splits: 0, frusta: [None; MAX_SPLITS], failed: None }
+        PreparedView {
+            settings: *settings,
+            camera: *camera,
+            basis: placeholder,
+            depths: [0.0; MAX_SPLITS + 1],
+            splits: 0,
+            frusta: [None; MAX_SPLITS],
+            failed: None,
+        }
     }
 
     /// Keeps the outcome of a preparation: after an error the view holds
@@ -219,7 +227,14 @@ pub fn fit_prepared(view: &PreparedView, light: &Light, scene: &Aabb, out: &mut 
 ///
 /// NOTE: the view is built on the stack (about 7 KiB) for each call; an
 /// engine fitting every frame keeps a [`PreparedView`] instead.
-pub fn fit_frustum(view: &Frustum, camera: &Camera, light: &Light, scene: &Aabb, settings: &FocusSettings, out: &mut FocusResult) -> Result<(), FocusError> {
+pub fn fit_frustum(
+    view: &Frustum,
+    camera: &Camera,
+    light: &Light,
+    scene: &Aabb,
+    settings: &FocusSettings,
+    out: &mut FocusResult,
+) -> Result<(), FocusError> {
     out.clear();
     let mut pv = PreparedView::unprepared(camera, settings);
     pv.prepare_frustum(view, camera, settings)?;
@@ -308,7 +323,9 @@ fn fit_split(out: &mut FocusResult, sv: &SplitView, view: &Frustum, light: &Ligh
             focus_body_into(&mut map.body, view, light, scene)?;
             map.body_valid = true;
             if !finish(map, sv) {
-                return Err(FocusError::NoSingleProjection { reason: "the light's apex is not outside the body (a spot position inconsistent with its frustum?)" });
+                return Err(FocusError::NoSingleProjection {
+                    reason: "the light's apex is not outside the body (a spot position inconsistent with its frustum?)",
+                });
             }
             Ok(())
         }
@@ -382,10 +399,7 @@ fn map_fit(sv: &SplitView, light: &Light, f: &Fitted) -> MapFit {
         f32_exact: f.f32_exact,
         // The depth row's side of the light decides the test (see `project`).
         depth_test: if f.m.row(2).dot(lp) < 0.0 { DepthTest::Less } else { DepthTest::Greater },
-        texel_size: [
-            texel_size(&f.m, lp, eye + fwd * sv.camera.near, res),
-            texel_size(&f.m, lp, eye + fwd * sv.camera.far, res),
-        ],
+        texel_size: [texel_size(&f.m, lp, eye + fwd * sv.camera.near, res), texel_size(&f.m, lp, eye + fwd * sv.camera.far, res)],
         method: f.method,
         warp_near: f.warp_near,
         psm_shift: f.psm_shift,
@@ -440,7 +454,8 @@ pub fn fit_map(camera: &Camera, light: &Light, body: &Body, settings: &FocusSett
         });
     }
     let sv = SplitView { camera, basis, settings };
-    let f = fit_body(&sv, light, body).ok_or(FocusError::NoSingleProjection { reason: "the light lies in the body or sees it over a half-space" })?;
+    let f = fit_body(&sv, light, body)
+        .ok_or(FocusError::NoSingleProjection { reason: "the light lies in the body or sees it over a half-space" })?;
     Ok(map_fit(&sv, light, &f))
 }
 
@@ -601,15 +616,7 @@ fn truncation_frustum(sv: &SplitView, body: &Body, l: DVec3, r: f64, mag: f64) -
     if !(tx * tx + ty * ty <= 2.0) {
         return Ok(Truncation::NoCone);
     }
-    let cam = Camera {
-        eye: l,
-        forward: a,
-        up,
-        fovy: 2.0 * ty.atan(),
-        aspect: tx / ty,
-        near,
-        far,
-    };
+    let cam = Camera { eye: l, forward: a, up, fovy: 2.0 * ty.atan(), aspect: tx / ty, near, far };
     if !(cam.fovy < std::f64::consts::PI) {
         return Ok(Truncation::NoCone);
     }
@@ -622,7 +629,15 @@ fn truncation_frustum(sv: &SplitView, body: &Body, l: DVec3, r: f64, mag: f64) -
 /// body. A point farther than `r` from `l` is farther than `r/√3` along
 /// the axis of its largest coordinate (max norm ≥ Euclidean / √3), so the
 /// face of that axis holds it.
-fn cube_faces(out: &mut FocusResult, sv: &SplitView, view: &Frustum, l: DVec3, scene: &Aabb, split: usize, r: f64) -> Result<(), FocusError> {
+fn cube_faces(
+    out: &mut FocusResult,
+    sv: &SplitView,
+    view: &Frustum,
+    l: DVec3,
+    scene: &Aabb,
+    split: usize,
+    r: f64,
+) -> Result<(), FocusError> {
     let near = r * (1.0 / 3f64.sqrt()) * (1.0 - CONE_MARGIN);
     for face in CubeFace::ALL {
         let (axis, up) = face.axes();

@@ -22,7 +22,7 @@
 //! 0 ≤ z ≤ w`, in f64 and also with [`ShadowMap::matrix_f32`] evaluated in
 //! f32. Split ranges are view depths along the camera's forward axis;
 //! [`FocusResult::split_clip_depths`] gives the same planes as depths of the
-//! right-handed camera projection with depth in `[0, 1]` (glam's `perspective_rh`):
+//! right-handed camera projection with depth in `[0, 1]` (glam's `dcamera::rh::proj::directx::perspective`):
 //! `z_clip/w_clip = f/(f − n)·(1 − n/z)` at view depth `z`.
 //!
 //! # Cost
@@ -77,10 +77,6 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-// NOTE: `!(x > 0.0)` is deliberate throughout: it is true for NaN, so
-// non-finite values fail validity checks instead of slipping through.
-#![allow(clippy::neg_cmp_op_on_partial_ord)]
-
 mod camera;
 mod cone;
 mod cull;
@@ -101,7 +97,10 @@ pub use error::FocusError;
 pub use fit::{fit, fit_frustum, fit_map, fit_prepared, MapFit, PreparedView};
 pub use frame::S0 as ORIENTATION_BLEND_SIN;
 pub use result::{CubeFace, DepthTest, FocusResult, MapState, Notes, ShadowMap, Skipped};
-pub use settings::{FocusSettings, LightNear, LispsmSettings, MapOrientation, Method, PointMode, PsmSettings, SplitScheme, SplitSettings, TsmSettings, WarpDirection};
+pub use settings::{
+    FocusSettings, LightNear, LispsmSettings, MapOrientation, Method, PointMode, PsmSettings, SplitScheme, SplitSettings, TsmSettings,
+    WarpDirection,
+};
 pub use splits::{clip_depth, split_depths};
 
 /// Most parallel splits.

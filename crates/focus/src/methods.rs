@@ -8,9 +8,9 @@
 
 use crate::frame::{perpendicular_hint, tangent_frame};
 use crate::hull2::min_area_direction;
-use crate::predict::Samples;
 #[cfg(doc)]
 use crate::predict::Predicted;
+use crate::predict::Samples;
 use crate::project::{apply_warp, central_projection, crop, crop_estimate, from_rows, h, image_points, Central, Cropped, DepthKind, Warp};
 use crate::settings::{FocusSettings, MapOrientation, Method, WarpDirection};
 use glam::{DMat4, DVec2, DVec3, DVec4};

@@ -271,7 +271,14 @@ pub(crate) fn crop(m: &DMat4, pts: &[DVec3], origin: DVec3) -> Option<Cropped> {
     // non-negative terms; their roundings differ by a few u₆₄, well inside
     // the 4u₃₂ margin applied below.
     let at_origin = origin == DVec3::ZERO;
-    let rel = if at_origin { centred } else { (from_rows(centred[0], centred[1], centred[2], centred[3]) * DMat4::from_translation(origin)).transpose().to_cols_array_2d().map(DVec4::from_array) };
+    let rel = if at_origin {
+        centred
+    } else {
+        (from_rows(centred[0], centred[1], centred[2], centred[3]) * DMat4::from_translation(origin))
+            .transpose()
+            .to_cols_array_2d()
+            .map(DVec4::from_array)
+    };
     // Row magnitudes, scaled by the error constants, for the bounds below.
     let abs64 = centred.map(|r| r.abs() * (K * U64));
     let abs32: [DVec4; 4] = rel.map(|r| r.abs() * (K * U32));
@@ -481,4 +488,3 @@ mod tests {
         assert!((s - 0.1).abs() < 1e-5, "{s}");
     }
 }
-

@@ -310,7 +310,7 @@ impl FocusResult {
     }
 
     /// The same planes as clip-space depths of the camera projection
-    /// (right-handed, z ∈ [0, 1], as glam's `perspective_rh`): PSSM eq. 8. A fragment
+    /// (right-handed, z ∈ [0, 1], as glam's `dcamera::rh::proj::directx::perspective`) [PSSM06 eq. 8]. A fragment
     /// with clip depth in `[clip[i], clip[i + 1]]` samples split `i`.
     pub fn split_clip_depths(&self) -> &[f64] {
         &self.split_clip[..=self.splits]

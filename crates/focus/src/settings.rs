@@ -265,11 +265,7 @@ impl FocusSettings {
         if !(self.tsm.focus.is_finite() && self.tsm.focus > 0.0 && self.tsm.focus <= 1.0) {
             return bad("tsm.focus", "must lie in (0, 1]");
         }
-        for (v, what) in [
-            (self.lispsm.visible_far, "lispsm.visible_far"),
-            (self.psm.near, "psm.near"),
-            (self.psm.far, "psm.far"),
-        ] {
+        for (v, what) in [(self.lispsm.visible_far, "lispsm.visible_far"), (self.psm.near, "psm.near"), (self.psm.far, "psm.far")] {
             if let Some(v) = v {
                 if !(v.is_finite() && v > 0.0) {
                     return bad(what, "must be finite and positive");

@@ -35,7 +35,7 @@ pub fn split_depths(near: f64, far: f64, s: &SplitSettings, out: &mut [f64; MAX_
 
 /// Clip-space depth (wgpu/D3D/Vulkan convention, `z ∈ [0, 1]`) of the view
 /// depth `z` under the right-handed camera projection with depth in `[0, 1]`
-/// (glam's `perspective_rh(…, n, f)`):
+/// (glam's `dcamera::rh::proj::directx::perspective(…, n, f)`):
 /// `f/(f − n) · (1 − n/z)` — PSSM eq. 8 with its typo (`n − 1/C_i`) corrected.
 /// A fragment with clip depth in `[clip(C_i), clip(C_{i+1})]` uses map `i`.
 pub fn clip_depth(near: f64, far: f64, z: f64) -> f64 {
@@ -81,7 +81,7 @@ mod tests {
     #[allow(deprecated)]
     fn clip_depth_matches_glam_projection() {
         let (n, f) = (0.3, 250.0);
-        let p = glam::DMat4::perspective_rh(1.0, 1.5, n, f);
+        let p = glam::dcamera::rh::proj::directx::perspective(1.0, 1.5, n, f);
         for z in [0.3, 1.0, 17.0, 250.0] {
             let c = p * glam::DVec4::new(0.0, 0.0, -z, 1.0);
             assert!((c.z / c.w - clip_depth(n, f, z)).abs() < 1e-12, "{z}");

@@ -135,7 +135,10 @@ fn run(method: Method, splits: usize, g_is_up: bool) {
     }
     changes.sort_by(|a, b| b.0.total_cmp(&a.0));
     let (worst, at) = changes[0];
-    eprintln!("{method:?} splits {splits} {}: largest change per 0.5° step {worst:.4} at θ = {at:.4}", if g_is_up { "view/up" } else { "view/right" });
+    eprintln!(
+        "{method:?} splits {splits} {}: largest change per 0.5° step {worst:.4} at θ = {at:.4}",
+        if g_is_up { "view/up" } else { "view/right" }
+    );
     assert!(worst < bound(method), "{method:?}: change {worst} per step at θ = {at}");
     // Refinement around the largest changes: a jump survives bisection.
     for &(c, a) in changes.iter().take(3) {

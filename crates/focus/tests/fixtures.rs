@@ -45,7 +45,8 @@ fn fixture_cases_are_contained() {
     let stride = if cfg!(debug_assertions) && std::env::var_os("SHADOWFOCUS_FIXTURES_ALL").is_none() { 4 } else { 1 };
     let mut files: Vec<PathBuf> = std::fs::read_dir(root.join("cases")).unwrap().map(|e| e.unwrap().path()).collect();
     files.sort();
-    let (mut cases, mut checked_maps, mut asym, mut invalid, mut expected_checked, mut f32_inexact) = (0usize, 0usize, 0usize, 0usize, 0usize, 0usize);
+    let (mut cases, mut checked_maps, mut asym, mut invalid, mut expected_checked, mut f32_inexact) =
+        (0usize, 0usize, 0usize, 0usize, 0usize, 0usize);
     let mut exact_empty_missed = 0usize;
     let mut out = FocusResult::new();
     let methods = [Method::Uniform, Method::Psm, Method::Lispsm, Method::Tsm];
@@ -106,12 +107,18 @@ fn fixture_cases_are_contained() {
                 let verts: Vec<DVec3> = exp["vertices"].as_array().map(|a| a.iter().map(v3).collect()).unwrap_or_default();
                 let total_empty = out.maps().iter().all(|m| !m.is_active());
                 if verts.is_empty() {
-                    assert!(total_empty || s.splits.count > 1 || matches!(light, Light::Point { .. }), "{id}: a map for an empty exact body ({:?})", s.method);
+                    assert!(
+                        total_empty || s.splits.count > 1 || matches!(light, Light::Point { .. }),
+                        "{id}: a map for an empty exact body ({:?})",
+                        s.method
+                    );
                 }
                 for p in &verts {
                     let held = out.maps().iter().filter(|m| m.is_active()).any(|m| inside_f64(&m.matrix, *p));
                     let near_light = match light {
-                        Light::Point { position } | Light::Spot { position, .. } => (*p - position).length() <= out.maps().iter().map(|m| m.light_near).fold(0.0, f64::max) * 1.7321,
+                        Light::Point { position } | Light::Spot { position, .. } => {
+                            (*p - position).length() <= out.maps().iter().map(|m| m.light_near).fold(0.0, f64::max) * 1.7321
+                        }
                         Light::Directional { .. } => false,
                     };
                     assert!(held || near_light, "{id}: exact vertex {p} in no map ({:?}, {} splits)", s.method, s.splits.count);

@@ -69,9 +69,9 @@ fn psm_point_lights_in_front_behind_and_in_the_camera_plane() {
     let cam = camera();
     let scene = scene();
     for (l, want) in [
-        (DVec3::new(0.0, 30.0, -150.0), DepthTest::Less),   // in front, outside S
-        (DVec3::new(5.0, 30.0, 40.0), DepthTest::Greater),  // behind the camera plane: inverted
-        (DVec3::new(5.0, 30.0, 10.0), DepthTest::Less),     // in the camera plane: directional
+        (DVec3::new(0.0, 30.0, -150.0), DepthTest::Less),  // in front, outside S
+        (DVec3::new(5.0, 30.0, 40.0), DepthTest::Greater), // behind the camera plane: inverted
+        (DVec3::new(5.0, 30.0, 10.0), DepthTest::Less),    // in the camera plane: directional
     ] {
         let out = fit1(&cam, &Light::point(l).unwrap(), &scene, &psm());
         assert_eq!(out.maps().len(), 1, "{l}");
@@ -88,11 +88,19 @@ fn psm_tightened_near_is_used() {
     assert_eq!(out.split_depths(), &[4.0, 60.0]);
     let bad = FocusSettings { method: Method::Psm, psm: PsmSettings { near: Some(200.0), far: None }, ..Default::default() };
     let mut o = FocusResult::new();
-    assert!(matches!(fit(&cam, &Light::directional(DVec3::NEG_Y).unwrap(), &scene(), &bad, &mut o), Err(FocusError::InvalidSettings { .. })));
+    assert!(matches!(
+        fit(&cam, &Light::directional(DVec3::NEG_Y).unwrap(), &scene(), &bad, &mut o),
+        Err(FocusError::InvalidSettings { .. })
+    ));
 }
 
 fn lispsm(visible_far: Option<f64>) -> FocusSettings {
-    FocusSettings { method: Method::Lispsm, lispsm: LispsmSettings { visible_far, warp: WarpDirection::ViewProjected }, warp_guard: false, ..Default::default() }
+    FocusSettings {
+        method: Method::Lispsm,
+        lispsm: LispsmSettings { visible_far, warp: WarpDirection::ViewProjected },
+        warp_guard: false,
+        ..Default::default()
+    }
 }
 
 #[test]
@@ -144,7 +152,12 @@ fn lispsm_fades_into_uniform_as_gamma_vanishes() {
 fn lispsm_middle_vector_differs_but_is_valid() {
     let cam = camera();
     let sun = Light::directional(DVec3::new(0.5, -1.0, 0.3)).unwrap();
-    let s = FocusSettings { method: Method::Lispsm, lispsm: LispsmSettings { visible_far: None, warp: WarpDirection::MiddleVector }, warp_guard: false, ..Default::default() };
+    let s = FocusSettings {
+        method: Method::Lispsm,
+        lispsm: LispsmSettings { visible_far: None, warp: WarpDirection::MiddleVector },
+        warp_guard: false,
+        ..Default::default()
+    };
     let a = fit1(&cam, &sun, &scene(), &s);
     let b = fit1(&cam, &sun, &scene(), &lispsm(None));
     assert!(a.maps()[0].warp_near.is_finite());
@@ -168,7 +181,8 @@ fn tsm_puts_the_focus_point_on_the_80_percent_line() {
 
 #[test]
 fn stable_maps_snap_to_texels_and_ignore_rotation() {
-    let s = FocusSettings { stable: true, resolution: 1024, splits: SplitSettings { count: 3, ..Default::default() }, ..Default::default() };
+    let s =
+        FocusSettings { stable: true, resolution: 1024, splits: SplitSettings { count: 3, ..Default::default() }, ..Default::default() };
     let sun = Light::directional(DVec3::new(0.3, -1.0, 0.45)).unwrap();
     let scene = Aabb::new(DVec3::new(-500.0, -50.0, -500.0), DVec3::new(500.0, 50.0, 500.0)).unwrap();
     let base = camera();
@@ -285,7 +299,15 @@ fn prepared_view_keeps_its_error_until_prepared_again() {
 /// its body.
 #[test]
 fn maps_hold_bodies_where_w_is_below_its_rounding_bound() {
-    let cam = Camera { eye: DVec3::new(100000.0, 2.0, 10.0), forward: DVec3::X, up: DVec3::Z, fovy: std::f64::consts::FRAC_PI_2, aspect: 1.3333333333333334e80, near: 0.02, far: 10000.0 };
+    let cam = Camera {
+        eye: DVec3::new(100000.0, 2.0, 10.0),
+        forward: DVec3::X,
+        up: DVec3::Z,
+        fovy: std::f64::consts::FRAC_PI_2,
+        aspect: 1.3333333333333334e80,
+        near: 0.02,
+        far: 10000.0,
+    };
     let scene = Aabb::new(DVec3::new(99000.0, -103.0, -100.0), DVec3::new(101000.0, 100.0, 100.0)).unwrap();
     let light = Light::point(cam.eye).unwrap();
     let mut out = FocusResult::new();
@@ -380,7 +402,15 @@ fn light_kind(l: &Light) -> &'static str {
 
 #[test]
 fn corners_form_reproduces_the_camera_fit() {
-    let cam = Camera { eye: DVec3::new(1.5, 3.0, 7.0), forward: DVec3::new(0.2, -0.3, -1.0), up: DVec3::Y, fovy: 0.8, aspect: 1.3, near: 0.4, far: 90.0 };
+    let cam = Camera {
+        eye: DVec3::new(1.5, 3.0, 7.0),
+        forward: DVec3::new(0.2, -0.3, -1.0),
+        up: DVec3::Y,
+        fovy: 0.8,
+        aspect: 1.3,
+        near: 0.4,
+        far: 90.0,
+    };
     let rec = camera_from_corners(&cam.corners().unwrap()).unwrap();
     assert!(rec.residual < 1e-12);
     let sun = Light::directional(DVec3::new(0.4, -1.0, 0.2)).unwrap();
@@ -393,7 +423,11 @@ fn corners_form_reproduces_the_camera_fit() {
         assert!(x.matrix.abs_diff_eq(y.matrix, 1e-6), "{} vs {}", x.matrix, y.matrix);
     }
     // A spot light whose frustum is the view itself: L ⊇ V.
-    let spot = Light::spot(cam.eye + DVec3::new(0.0, 0.0, 0.0), Frustum::from_camera(&Camera { near: 0.1, far: 200.0, fovy: 1.2, ..cam }).unwrap()).unwrap();
+    let spot = Light::spot(
+        cam.eye + DVec3::new(0.0, 0.0, 0.0),
+        Frustum::from_camera(&Camera { near: 0.1, far: 200.0, fovy: 1.2, ..cam }).unwrap(),
+    )
+    .unwrap();
     let out = fit1(&cam, &spot, &scene(), &FocusSettings::default());
     assert!(out.maps().iter().all(|m| m.is_active()));
 }
@@ -424,10 +458,14 @@ fn long_and_short_light_directions_fit_like_unit_ones() {
     for s in &settings {
         let unit = fit1(&cam, &Light::directional(d).unwrap(), &scene, s);
         let kept = |out: &FocusResult, idx: &mut [u32]| -> Vec<Vec<u32>> {
-            out.maps().iter().filter(|m| m.is_active()).map(|m| {
-                let n = cull_casters(m, &casters, idx).unwrap();
-                idx[..n].to_vec()
-            }).collect()
+            out.maps()
+                .iter()
+                .filter(|m| m.is_active())
+                .map(|m| {
+                    let n = cull_casters(m, &casters, idx).unwrap();
+                    idx[..n].to_vec()
+                })
+                .collect()
         };
         let unit_kept = kept(&unit, &mut idx);
         assert!(unit_kept.iter().any(|k| !k.is_empty()));

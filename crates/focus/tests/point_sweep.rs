@@ -108,7 +108,8 @@ fn sweep(cam: &Camera, scene: &Aabb, radii: &[f64], extra: &[DVec3], counts: &mu
 #[test]
 fn point_light_sweep_keeps_every_point_farther_than_r() {
     let mut counts = Counts::default();
-    let cam = Camera { eye: DVec3::new(0.0, 2.0, 10.0), forward: DVec3::NEG_Z, up: DVec3::Y, fovy: 1.0, aspect: 1.5, near: 0.5, far: 100.0 };
+    let cam =
+        Camera { eye: DVec3::new(0.0, 2.0, 10.0), forward: DVec3::NEG_Z, up: DVec3::Y, fovy: 1.0, aspect: 1.5, near: 0.5, far: 100.0 };
     let scene = Aabb::new(DVec3::new(-50.0, 0.0, -100.0), DVec3::new(50.0, 20.0, 20.0)).unwrap();
     // Inside the view (on the axis, at split depths and between), inside
     // the box but out of view, at the eye, on the box's faces.
@@ -116,12 +117,26 @@ fn point_light_sweep_keeps_every_point_farther_than_r() {
     let extra: Vec<DVec3> = [0.5, 1.0, 3.0, 7.3, 25.0, 60.0, 99.0]
         .iter()
         .map(|z| cam.eye + b.forward * *z)
-        .chain([cam.eye, DVec3::new(-49.0, 1.0, 19.0), DVec3::new(30.0, 15.0, 15.0), DVec3::new(0.0, 0.0, -50.0), DVec3::new(50.0, 10.0, -50.0)])
+        .chain([
+            cam.eye,
+            DVec3::new(-49.0, 1.0, 19.0),
+            DVec3::new(30.0, 15.0, 15.0),
+            DVec3::new(0.0, 0.0, -50.0),
+            DVec3::new(50.0, 10.0, -50.0),
+        ])
         .collect();
     sweep(&cam, &scene, &[0.2, 3.0, 40.0, 150.0], &extra, &mut counts);
     // A tilted camera over a small scene (the light's reach and r at 1e-3
     // of the first's), and one 1e5 away from the origin.
-    let small = Camera { eye: DVec3::new(0.001, 0.002, 0.003), forward: DVec3::new(0.3, -0.2, -1.0), up: DVec3::new(0.1, 1.0, 0.0), fovy: 1.2, aspect: 1.0, near: 1e-4, far: 0.05 };
+    let small = Camera {
+        eye: DVec3::new(0.001, 0.002, 0.003),
+        forward: DVec3::new(0.3, -0.2, -1.0),
+        up: DVec3::new(0.1, 1.0, 0.0),
+        fovy: 1.2,
+        aspect: 1.0,
+        near: 1e-4,
+        far: 0.05,
+    };
     let small_box = Aabb::new(DVec3::new(-0.03, -0.01, -0.05), DVec3::new(0.03, 0.01, 0.01)).unwrap();
     sweep(&small, &small_box, &[3e-5, 0.004, 0.03], &[small.eye + small.basis().unwrap().forward * 0.01], &mut counts);
     let off = DVec3::new(1e5, -3e4, 2e5);
@@ -137,13 +152,19 @@ fn point_light_sweep_keeps_every_point_farther_than_r() {
 /// guarantee, however it compares with the scene.
 #[test]
 fn fixed_light_near_is_reported_and_kept() {
-    let cam = Camera { eye: DVec3::new(0.0, 2.0, 10.0), forward: DVec3::NEG_Z, up: DVec3::Y, fovy: 1.0, aspect: 1.5, near: 0.5, far: 100.0 };
+    let cam =
+        Camera { eye: DVec3::new(0.0, 2.0, 10.0), forward: DVec3::NEG_Z, up: DVec3::Y, fovy: 1.0, aspect: 1.5, near: 0.5, far: 100.0 };
     let scene = Aabb::new(DVec3::new(-50.0, 0.0, -100.0), DVec3::new(50.0, 20.0, 20.0)).unwrap();
     let mut counts = Counts::default();
     for r in [1e-3, 0.05, 2.0] {
         for l in [DVec3::new(0.0, 2.0, -20.0), DVec3::new(-49.0, 1.0, 19.0), DVec3::new(30.0, 15.0, 15.0)] {
             for point in [PointMode::Single, PointMode::Cube] {
-                let s = FocusSettings { point, light_near: LightNear::Fixed(r), splits: SplitSettings { count: 4, ..Default::default() }, ..Default::default() };
+                let s = FocusSettings {
+                    point,
+                    light_near: LightNear::Fixed(r),
+                    splits: SplitSettings { count: 4, ..Default::default() },
+                    ..Default::default()
+                };
                 check(&cam, &scene, l, &s, &mut counts).unwrap();
                 let mut out = FocusResult::new();
                 fit(&cam, &Light::point(l).unwrap(), &scene, &s, &mut out).unwrap();
@@ -158,7 +179,8 @@ fn fixed_light_near_is_reported_and_kept() {
 /// single-map cut keeps H_i beyond it.
 #[test]
 fn auto_light_near_follows_the_scale() {
-    let cam = Camera { eye: DVec3::new(0.0, 2.0, 10.0), forward: DVec3::NEG_Z, up: DVec3::Y, fovy: 1.0, aspect: 1.5, near: 0.5, far: 100.0 };
+    let cam =
+        Camera { eye: DVec3::new(0.0, 2.0, 10.0), forward: DVec3::NEG_Z, up: DVec3::Y, fovy: 1.0, aspect: 1.5, near: 0.5, far: 100.0 };
     let scene = Aabb::new(DVec3::new(-50.0, 0.0, -100.0), DVec3::new(50.0, 20.0, 20.0)).unwrap();
     let k = 2f64.powi(-20);
     let small_cam = Camera { eye: cam.eye * k, near: cam.near * k, far: cam.far * k, ..cam };

@@ -116,7 +116,11 @@ fn check_frame(cam: &Camera, light: &Light, scene: &Aabb, s: &FocusSettings, out
                 if (*v - l).length() <= r {
                     continue;
                 }
-                prop_assert!(maps.iter().any(|m| inside_f64(&m.matrix, *v)), "H vertex {v} of split {i} ({} from the light, r = {r}) in no map", (*v - l).length());
+                prop_assert!(
+                    maps.iter().any(|m| inside_f64(&m.matrix, *v)),
+                    "H vertex {v} of split {i} ({} from the light, r = {r}) in no map",
+                    (*v - l).length()
+                );
             }
         }
     }

@@ -99,9 +99,7 @@ fn bench(c: &mut Criterion) {
     let skippable: Vec<&Case> = mixed
         .iter()
         .copied()
-        .filter(|c| {
-            focus_body_into(&mut body, &c.view, &c.light, &c.scene).is_ok() && body.stats().scene_clip_skipped
-        })
+        .filter(|c| focus_body_into(&mut body, &c.view, &c.light, &c.scene).is_ok() && body.stats().scene_clip_skipped)
         .collect();
     eprintln!("scene-clip skip applies to {} of {} cases", skippable.len(), mixed.len());
     bench_engine(&mut group, "skippable_cases_with_skip", &mut body, &skippable, focus_body_into);

@@ -1,7 +1,7 @@
 //! The focus body `H = hull(V ∪ {l}) ∩ S ∩ L` and its rounded output form.
 
-use crate::error::{check_finite, GeomError};
 use crate::certified::{CertifiedClipper, Step};
+use crate::error::{check_finite, GeomError};
 use crate::frustum::{Apex, Frustum, HullOutline, PlaneSet};
 use crate::polytope::Polytope;
 use crate::{MAX_FACES, MAX_FACE_INDICES, MAX_VERTICES};
@@ -50,6 +50,10 @@ impl Aabb {
 }
 
 /// A light. A directional light is the point at infinity it comes from.
+// NOTE: a spot light carries its validated frustum by value, so that a
+// `Light` is `Copy` and nothing is allocated per frame; the other variants
+// pay its size.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Light {
     /// Light travelling along `direction` (from the light into the scene).
@@ -488,7 +492,13 @@ fn clip_certified(fast: &mut CertifiedClipper, plan: &Plan, view: &Frustum, ligh
         _ => None,
     };
     let mut step = fast.reset_to_hull(view, light.apex(), &plan.outline, scene, light_frustum);
-    let clip_scene = |fast: &mut CertifiedClipper, step: Step| if step == Step::Nonempty && !plan.scene_clip_skipped { fast.clip_box(scene) } else { step };
+    let clip_scene = |fast: &mut CertifiedClipper, step: Step| {
+        if step == Step::Nonempty && !plan.scene_clip_skipped {
+            fast.clip_box(scene)
+        } else {
+            step
+        }
+    };
     if !light_first {
         step = clip_scene(fast, step);
     }
@@ -504,7 +514,16 @@ fn clip_certified(fast: &mut CertifiedClipper, plan: &Plan, view: &Frustum, ligh
 /// The fast path's answer, written into `out`; `false` when it could not
 /// prove one (see [`CertifiedClipper::write`]).
 #[allow(clippy::too_many_arguments)]
-fn answer_certified(fast: &mut CertifiedClipper, out: &mut Body, plan: &Plan, view: &Frustum, light: &Light, scene: &Aabb, light_first: bool, stats: &mut FocusStats) -> bool {
+fn answer_certified(
+    fast: &mut CertifiedClipper,
+    out: &mut Body,
+    plan: &Plan,
+    view: &Frustum,
+    light: &Light,
+    scene: &Aabb,
+    light_first: bool,
+    stats: &mut FocusStats,
+) -> bool {
     let answered = match clip_certified(fast, plan, view, light, scene, light_first) {
         Step::Empty => {
             out.clear();
@@ -585,7 +604,16 @@ fn compute(out: &mut Body, view: &Frustum, light: &Light, scene: &Aabb, float_pa
 }
 
 #[allow(clippy::too_many_arguments)]
-fn compute_planned(out: &mut Body, plan: &mut Plan, view: &Frustum, light: &Light, scene: &Aabb, float_path: bool, skip: bool, mut stats: FocusStats) -> Result<(), GeomError> {
+fn compute_planned(
+    out: &mut Body,
+    plan: &mut Plan,
+    view: &Frustum,
+    light: &Light,
+    scene: &Aabb,
+    float_path: bool,
+    skip: bool,
+    mut stats: FocusStats,
+) -> Result<(), GeomError> {
     plan.scene_clip_skipped &= skip;
     stats.scene_clip_skipped = plan.scene_clip_skipped;
     let light_faces = match light {

@@ -37,12 +37,8 @@ pub struct CameraBasis {
 impl Camera {
     /// Field of view, aspect, near and far: finite and in range.
     fn check_scalars(&self) -> Result<(), GeomError> {
-        for (v, what) in [
-            (self.fovy, "camera fovy"),
-            (self.aspect, "camera aspect"),
-            (self.near, "camera near"),
-            (self.far, "camera far"),
-        ] {
+        for (v, what) in [(self.fovy, "camera fovy"), (self.aspect, "camera aspect"), (self.near, "camera near"), (self.far, "camera far")]
+        {
             if !v.is_finite() {
                 return Err(GeomError::NonFinite { what });
             }

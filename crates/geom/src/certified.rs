@@ -48,8 +48,8 @@
 //! clip like a solid with one dimension fewer.
 
 use crate::body::{Aabb, Body};
-use crate::frustum::{abs_cross, corner_bits, creased_pair, Apex, Frustum, HullOutline, Origin};
 use crate::fixed::{meet, Meeting};
+use crate::frustum::{abs_cross, corner_bits, creased_pair, Apex, Frustum, HullOutline, Origin};
 use crate::number::Exact;
 use crate::plane::{intersect3, Plane};
 use crate::polytope::{point_side, ROUNDING_ULPS};
@@ -100,7 +100,6 @@ struct FloatPlane {
     /// Input points the plane passes through by definition.
     through: u32,
 }
-
 
 impl FloatPlane {
     // NOTE: inlined so that callers build the ~250-byte plane in its slot
@@ -1484,7 +1483,11 @@ impl CertifiedClipper {
                         Meeting::Point(x) => x,
                         Meeting::Dependent => continue,
                         Meeting::Unfit => {
-                            let h = intersect3(&src(i).coefficients::<Exact>(), &src(j).coefficients::<Exact>(), &src(k).coefficients::<Exact>());
+                            let h = intersect3(
+                                &src(i).coefficients::<Exact>(),
+                                &src(j).coefficients::<Exact>(),
+                                &src(k).coefficients::<Exact>(),
+                            );
                             if h[3].sign() == 0 {
                                 continue;
                             }

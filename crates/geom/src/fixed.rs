@@ -136,7 +136,10 @@ fn exponents_of(points: &[DVec3]) -> Option<[i32; 3]> {
             continue;
         }
         // A subnormal has no implicit bit; a scale of 2^-e must be normal.
-        if smallest < f64::MIN_POSITIVE.to_bits() || unit_exponent(smallest) < -1022 || unit_exponent(largest) - unit_exponent(smallest) > MAX_SPREAD {
+        if smallest < f64::MIN_POSITIVE.to_bits()
+            || unit_exponent(smallest) < -1022
+            || unit_exponent(largest) - unit_exponent(smallest) > MAX_SPREAD
+        {
             return None;
         }
         *e = unit_exponent(smallest);
@@ -386,15 +389,19 @@ mod tests {
     fn ring_operations_agree_with_i128() {
         let mut rng = TestRng::deterministic_rng(RngAlgorithm::ChaCha);
         for _ in 0..20000 {
-            let a = (rng.next_u64() >> (rng.next_u64() % 64)) as i64 as i128 * if rng.next_u64() % 2 == 0 { 1 } else { -1 };
-            let b = (rng.next_u64() >> (rng.next_u64() % 64)) as i64 as i128 * if rng.next_u64() % 3 == 0 { 1 } else { -1 };
+            let a = (rng.next_u64() >> (rng.next_u64() % 64)) as i64 as i128 * if rng.next_u64().is_multiple_of(2) { 1 } else { -1 };
+            let b = (rng.next_u64() >> (rng.next_u64() % 64)) as i64 as i128 * if rng.next_u64().is_multiple_of(3) { 1 } else { -1 };
             // Exactly representable operands: below 2^53.
             let (a, b) = (a >> 11, b >> 11);
             let (fa, fb) = (Fixed::lit(a as f64), Fixed::lit(b as f64));
             let value = |f: Fixed| {
                 let m = f.mag[0] as i128 | (f.mag[1] as i128) << 64;
                 assert!(f.mag[2..].iter().all(|&l| l == 0) && !f.overflow);
-                if f.negative { -m } else { m }
+                if f.negative {
+                    -m
+                } else {
+                    m
+                }
             };
             assert_eq!(value(fa.add(&fb)), a + b);
             assert_eq!(value(fa.sub(&fb)), a - b);
@@ -433,7 +440,7 @@ mod tests {
             let mut plane = |i: u64| match (k + i) % 4 {
                 0 | 1 => Plane::Points([pt(), pt(), pt()]),
                 2 => Plane::PointsDirection { p: pt(), q: pt(), direction: pt() - o },
-                _ => Plane::Axis { axis: (i % 3) as u8, upper: i % 2 == 0, value: pt().x },
+                _ => Plane::Axis { axis: (i % 3) as u8, upper: i.is_multiple_of(2), value: pt().x },
             };
             let mut planes = [plane(0), plane(1), plane(2)];
             if k % 4 == 3 {
@@ -493,7 +500,7 @@ mod tests {
             let (u, v) = (random_vec(&mut rng), random_vec(&mut rng));
             let (p, q, r) = (o, o + u * s, o + v * s);
             let d = match k % 3 {
-                0 => q - p,                                  // in the plane, exactly
+                0 => q - p,                                         // in the plane, exactly
                 1 => (u * unit(&mut rng) + v * unit(&mut rng)) * s, // in it up to rounding
                 _ => random_vec(&mut rng),
             };

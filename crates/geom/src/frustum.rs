@@ -98,10 +98,7 @@ pub struct PlaneSet {
 
 impl PlaneSet {
     pub(crate) fn new() -> Self {
-        PlaneSet {
-            planes: [Plane::Axis { axis: 0, upper: true, value: 0.0 }; 2 * MAX_FRUSTUM_FACES],
-            len: 0,
-        }
+        PlaneSet { planes: [Plane::Axis { axis: 0, upper: true, value: 0.0 }; 2 * MAX_FRUSTUM_FACES], len: 0 }
     }
     fn clear(&mut self) {
         self.len = 0;
@@ -383,7 +380,17 @@ impl Frustum {
         if hand == 0 {
             return Err(GeomError::DegenerateFrustum { what, reason: "all corners are coplanar" });
         }
-        let mut f = Frustum { corners, faces: [[0; 4]; MAX_FRUSTUM_FACES], faces_len: [0; MAX_FRUSTUM_FACES], n_faces: 0, coplanar_faces: false, in_range, edge_face: [[u8::MAX; 8]; 8], normals: [DVec3::ZERO; MAX_FRUSTUM_FACES], abs_normals: [DVec3::ZERO; MAX_FRUSTUM_FACES] };
+        let mut f = Frustum {
+            corners,
+            faces: [[0; 4]; MAX_FRUSTUM_FACES],
+            faces_len: [0; MAX_FRUSTUM_FACES],
+            n_faces: 0,
+            coplanar_faces: false,
+            in_range,
+            edge_face: [[u8::MAX; 8]; 8],
+            normals: [DVec3::ZERO; MAX_FRUSTUM_FACES],
+            abs_normals: [DVec3::ZERO; MAX_FRUSTUM_FACES],
+        };
         // Per face: the corners off the quad it comes from.
         let mut off_quad = [[0u8; 4]; MAX_FRUSTUM_FACES];
         for (quad, others) in QUADS.iter().zip(QUAD_OTHERS) {
@@ -421,7 +428,10 @@ impl Frustum {
                 let filtered = if in_range { plane.side(x) } else { None };
                 let s = filtered.unwrap_or_else(|| orient_past_static_filter(a, b, c, x, in_range));
                 if s > 0 {
-                    return Err(GeomError::DegenerateFrustum { what, reason: "corners are not in convex position (twisted or non-convex frustum)" });
+                    return Err(GeomError::DegenerateFrustum {
+                        what,
+                        reason: "corners are not in convex position (twisted or non-convex frustum)",
+                    });
                 }
                 strictly_inside |= s < 0;
                 f.coplanar_faces |= s == 0;
@@ -634,7 +644,8 @@ mod tests {
         // coplanar up to rounding (the wide-integer stage), the other
         // corners far off them (the static filter), and the tiny or huge
         // scales leave the safe range (dynamic filter, big integers).
-        let exact = |p: DVec3, q: DVec3, r: DVec3, x: DVec3| dot(&cross(&diff::<Exact>(q, p), &diff::<Exact>(r, p)), &diff::<Exact>(x, p)).sign();
+        let exact =
+            |p: DVec3, q: DVec3, r: DVec3, x: DVec3| dot(&cross(&diff::<Exact>(q, p), &diff::<Exact>(r, p)), &diff::<Exact>(x, p)).sign();
         let mut zeros = 0;
         for k in 0..400 {
             let t = k as f64 * 0.37;

@@ -38,14 +38,17 @@ mod body;
 mod camera;
 mod certified;
 mod error;
-mod frustum;
 mod fixed;
+mod frustum;
 mod number;
 mod plane;
 mod polytope;
 mod wide;
 
-pub use body::{focus_body, focus_body_exact_into, focus_body_into, focus_body_into_without_skip, unit_direction, Aabb, Body, Dimension, FocusStats, Light};
+pub use body::{
+    focus_body, focus_body_exact_into, focus_body_into, focus_body_into_without_skip, unit_direction, Aabb, Body, Dimension, FocusStats,
+    Light,
+};
 pub use camera::{Camera, CameraBasis};
 pub use error::GeomError;
 pub use frustum::{Apex, Frustum, PlaneSet};

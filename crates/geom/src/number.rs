@@ -218,11 +218,7 @@ impl Ring for Exact {
 /// Small vector helpers over any ring.
 #[inline]
 pub(crate) fn cross<T: Ring>(a: &[T; 3], b: &[T; 3]) -> [T; 3] {
-    [
-        a[1].mul(&b[2]).sub(&a[2].mul(&b[1])),
-        a[2].mul(&b[0]).sub(&a[0].mul(&b[2])),
-        a[0].mul(&b[1]).sub(&a[1].mul(&b[0])),
-    ]
+    [a[1].mul(&b[2]).sub(&a[2].mul(&b[1])), a[2].mul(&b[0]).sub(&a[0].mul(&b[2])), a[0].mul(&b[1]).sub(&a[1].mul(&b[0]))]
 }
 
 #[inline]

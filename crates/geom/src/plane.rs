@@ -57,9 +57,7 @@ impl Plane {
     /// Exact coefficients `[a, b, c, d]` evaluated in a ring.
     pub(crate) fn coefficients<T: Ring>(&self) -> [T; 4] {
         match *self {
-            Plane::Coefficients { normal, offset } => {
-                [T::lit(normal.x), T::lit(normal.y), T::lit(normal.z), T::lit(offset)]
-            }
+            Plane::Coefficients { normal, offset } => [T::lit(normal.x), T::lit(normal.y), T::lit(normal.z), T::lit(offset)],
             Plane::Points([p, q, r]) => {
                 let n = cross(&diff::<T>(q, p), &diff::<T>(r, p));
                 let d = dot(&n, &lift::<T>(p)).neg();
@@ -87,9 +85,7 @@ impl Plane {
         match *self {
             Plane::Coefficients { normal, offset } => dot(&lift::<T>(normal), &lift::<T>(x)).add(&T::lit(offset)),
             Plane::Points([p, q, r]) => dot(&cross(&diff::<T>(q, p), &diff::<T>(r, p)), &diff::<T>(x, p)),
-            Plane::PointsDirection { p, q, direction } => {
-                dot(&cross(&diff::<T>(q, p), &lift::<T>(direction)), &diff::<T>(x, p))
-            }
+            Plane::PointsDirection { p, q, direction } => dot(&cross(&diff::<T>(q, p), &lift::<T>(direction)), &diff::<T>(x, p)),
             Plane::Axis { axis, upper, value } => {
                 let d = T::lit(x[axis as usize]).sub(&T::lit(value));
                 if upper {
@@ -167,11 +163,7 @@ pub(crate) fn intersect3<T: Ring>(p: &[T; 4], q: &[T; 4], r: &[T; 4]) -> [T; 4] 
 /// `a·X + b·Y + c·Z + d·W` — the side of a homogeneous point, up to sign(W).
 #[inline]
 pub(crate) fn side_value<T: Ring>(plane: &[T; 4], point: &[T; 4]) -> T {
-    plane[0]
-        .mul(&point[0])
-        .add(&plane[1].mul(&point[1]))
-        .add(&plane[2].mul(&point[2]))
-        .add(&plane[3].mul(&point[3]))
+    plane[0].mul(&point[0]).add(&plane[1].mul(&point[1])).add(&plane[2].mul(&point[2])).add(&plane[3].mul(&point[3]))
 }
 
 /// A line known exactly from input values: through `a` along `c − a`, or
@@ -253,10 +245,8 @@ impl Plane {
             a[j] = vj;
             return Some(Line::PointDirection(a, axis_unit(3 - i - j)));
         }
-        if let (
-            Plane::PointsDirection { p: p1, q: q1, direction: d1 },
-            Plane::PointsDirection { p: p2, q: q2, direction: d2 },
-        ) = (*self, *other)
+        if let (Plane::PointsDirection { p: p1, q: q1, direction: d1 }, Plane::PointsDirection { p: p2, q: q2, direction: d2 }) =
+            (*self, *other)
         {
             if d1 == d2 {
                 for a in [p1, q1] {

@@ -80,8 +80,7 @@ pub struct Polytope {
     exact_evaluations: u32,
 }
 
-const DUMMY_VERTEX: Vertex =
-    Vertex { planes: [0; 3], def: VertexDef::Planes, hom: [Filtered { v: 0.0, e: 0.0 }; 4], w_sign: 1 };
+const DUMMY_VERTEX: Vertex = Vertex { planes: [0; 3], def: VertexDef::Planes, hom: [Filtered { v: 0.0, e: 0.0 }; 4], w_sign: 1 };
 const DUMMY_PLANE: Plane = Plane::Axis { axis: 0, upper: true, value: 0.0 };
 
 impl Polytope {
@@ -159,14 +158,8 @@ impl Polytope {
         }
         self.n_verts = 8;
         // Faces CCW from outside; corner index bits are (x, y, z) at max.
-        const BOX_FACES: [(u8, [u16; 4]); 6] = [
-            (0, [0, 4, 6, 2]),
-            (1, [1, 3, 7, 5]),
-            (2, [0, 1, 5, 4]),
-            (3, [2, 6, 7, 3]),
-            (4, [0, 2, 3, 1]),
-            (5, [4, 5, 7, 6]),
-        ];
+        const BOX_FACES: [(u8, [u16; 4]); 6] =
+            [(0, [0, 4, 6, 2]), (1, [1, 3, 7, 5]), (2, [0, 1, 5, 4]), (3, [2, 6, 7, 3]), (4, [0, 2, 3, 1]), (5, [4, 5, 7, 6])];
         for (f, (plane, cycle)) in BOX_FACES.iter().enumerate() {
             self.faces[f] = Face { plane: *plane, start: 4 * f as u16, len: 4 };
             self.idx[4 * f..4 * f + 4].copy_from_slice(cycle);
@@ -212,8 +205,7 @@ impl Polytope {
         }
         let [a, b, c] = planes.map(|i| i as usize);
         let hom = intersect3(&self.coef[a], &self.coef[b], &self.coef[c]);
-        self.finish_vertex(planes, VertexDef::Planes, hom)
-            .ok_or(GeomError::Unsupported { reason: "internal: vertex planes are dependent" })
+        self.finish_vertex(planes, VertexDef::Planes, hom).ok_or(GeomError::Unsupported { reason: "internal: vertex planes are dependent" })
     }
 
     fn finish_vertex(&mut self, planes: [u8; 3], def: VertexDef, hom: [Filtered; 4]) -> Option<Vertex> {
@@ -275,17 +267,17 @@ impl Polytope {
         // (a creased frustum side, neighbouring silhouette planes): decide
         // through the well-conditioned fold factorisation instead.
         for &on in &vert.planes {
-                let on = on as usize;
-                let Some(line) = self.planes[on].shared_line(&self.planes[p]) else { continue };
-                let (s, perp) = fold::<Filtered>(&line, &self.coef[on], &self.coef[p]);
-                let s = match s.sign() {
-                    Some(s) => s,
-                    None => self.fold_sign(&line, on, p),
-                };
-                if s == 0 {
-                    return 0; // Q is P's plane, which holds the vertex.
-                }
-                if let Some(t) = side_value(&perp, &vert.hom).sign() {
+            let on = on as usize;
+            let Some(line) = self.planes[on].shared_line(&self.planes[p]) else { continue };
+            let (s, perp) = fold::<Filtered>(&line, &self.coef[on], &self.coef[p]);
+            let s = match s.sign() {
+                Some(s) => s,
+                None => self.fold_sign(&line, on, p),
+            };
+            if s == 0 {
+                return 0; // Q is P's plane, which holds the vertex.
+            }
+            if let Some(t) = side_value(&perp, &vert.hom).sign() {
                 return s * t * vert.w_sign;
             }
         }
@@ -920,9 +912,7 @@ pub(crate) fn point_side(plane: &Plane, x: DVec3) -> i8 {
 
 /// The input point three planes all pass through by definition, if any.
 fn common_point(planes: &[Plane; 3]) -> Option<DVec3> {
-    if let [Plane::Axis { axis: i, value: a, .. }, Plane::Axis { axis: j, value: b, .. }, Plane::Axis { axis: k, value: c, .. }] =
-        *planes
-    {
+    if let [Plane::Axis { axis: i, value: a, .. }, Plane::Axis { axis: j, value: b, .. }, Plane::Axis { axis: k, value: c, .. }] = *planes {
         let mut x = DVec3::ZERO;
         let (i, j, k) = (i as usize, j as usize, k as usize);
         if i == j || j == k || i == k {

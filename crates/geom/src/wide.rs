@@ -142,11 +142,8 @@ fn narrow_det_sign(int: &[[i64; 3]; 4]) -> i8 {
     let diff = |k: usize| [int[k][0] - int[0][0], int[k][1] - int[0][1], int[k][2] - int[0][2]];
     let (a, b, c) = (diff(1), diff(2), diff(3));
     let product = |x: i64, y: i64| x as i128 * y as i128;
-    let minors = [
-        product(b[1], c[2]) - product(b[2], c[1]),
-        product(b[2], c[0]) - product(b[0], c[2]),
-        product(b[0], c[1]) - product(b[1], c[0]),
-    ];
+    let minors =
+        [product(b[1], c[2]) - product(b[2], c[1]), product(b[2], c[0]) - product(b[0], c[2]), product(b[0], c[1]) - product(b[1], c[0])];
     const LOW: i128 = (1 << 64) - 1;
     let (mut high, mut low) = (0i128, 0i128);
     for (ai, m) in a.iter().zip(minors) {
@@ -219,7 +216,8 @@ pub(crate) mod tests {
         let int = |v: f64| decode(v).map_or(BigInt::from(0), |(m, e)| m << (e - e_min) as usize);
         let d = |a: [f64; 3]| [0, 1, 2].map(|i| int(a[i]) - int(p[i]));
         let (a, b, c) = (d(q), d(r), d(x));
-        let det = &a[0] * (&b[1] * &c[2] - &b[2] * &c[1]) - &a[1] * (&b[0] * &c[2] - &b[2] * &c[0]) + &a[2] * (&b[0] * &c[1] - &b[1] * &c[0]);
+        let det =
+            &a[0] * (&b[1] * &c[2] - &b[2] * &c[1]) - &a[1] * (&b[0] * &c[2] - &b[2] * &c[0]) + &a[2] * (&b[0] * &c[1] - &b[1] * &c[0]);
         if det.is_positive() {
             1
         } else if det.is_negative() {
@@ -247,9 +245,20 @@ pub(crate) mod tests {
             let (u, v) = ([0; 3].map(|_| unit(&mut rng)), [0; 3].map(|_| unit(&mut rng)));
             let pt = |a: f64, b: f64| [0, 1, 2].map(|i| o[i] + (a * u[i] + b * v[i]) * s);
             let (p, q, r) = (pt(0.0, 0.0), pt(1.0, 0.0), pt(0.0, 1.0));
-            let x = if k % 3 == 0 { pt(1.0, 1.0) } else { let (a, b) = (unit(&mut rng), unit(&mut rng)); pt(a, b) };
+            let x = if k % 3 == 0 {
+                pt(1.0, 1.0)
+            } else {
+                let (a, b) = (unit(&mut rng), unit(&mut rng));
+                pt(a, b)
+            };
             // Exactly coplanar too: a point repeated, or the midpoint of two.
-            let x = if k % 10 == 0 { q } else if k % 10 == 1 { [0, 1, 2].map(|i| (p[i] + q[i]) * 0.5) } else { x };
+            let x = if k % 10 == 0 {
+                q
+            } else if k % 10 == 1 {
+                [0, 1, 2].map(|i| (p[i] + q[i]) * 0.5)
+            } else {
+                x
+            };
             let Some(got) = orient_det_sign(p, q, r, x) else { continue };
             assert_eq!(got, reference(p, q, r, x), "case {k}: {p:?} {q:?} {r:?} {x:?}");
             decided += 1;
@@ -261,7 +270,11 @@ pub(crate) mod tests {
     /// A random full 53-bit mantissa in binade `e`, either sign.
     fn full_mantissa(rng: &mut TestRng, e: i32) -> f64 {
         let v = ((1u64 << 52) | (rng.next_u64() >> 12)) as f64 * 2f64.powi(e - 52);
-        if rng.next_u64() % 2 == 0 { v } else { -v }
+        if rng.next_u64().is_multiple_of(2) {
+            v
+        } else {
+            -v
+        }
     }
 
     /// 20000 cases whose coordinates on each axis sit in binade `base(k)[axis]`
@@ -273,10 +286,12 @@ pub(crate) mod tests {
         let mut nonzero = 0;
         for k in 0..20000 {
             let (base, spread) = (base(k), spread(k));
-            let mut pt = || [0, 1, 2].map(|axis| {
-                let up = if rng.next_u64() % 2 == 0 { 0 } else { spread };
-                full_mantissa(&mut rng, base[axis] + up)
-            });
+            let mut pt = || {
+                [0, 1, 2].map(|axis| {
+                    let up = if rng.next_u64().is_multiple_of(2) { 0 } else { spread };
+                    full_mantissa(&mut rng, base[axis] + up)
+                })
+            };
             let (p, q, r, mut x) = (pt(), pt(), pt(), pt());
             match k % 4 {
                 1 => x = [f64::from_bits(q[0].to_bits() + 1), q[1], q[2]],

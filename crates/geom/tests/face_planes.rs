@@ -19,7 +19,11 @@ fn face_planes_hold_their_vertices_for_a_light_at_the_apex() {
         DVec3::new(308252.3173589797, 352098.12469665974, -354311.61155100766),
     ];
     let view = Frustum::from_corners(c).unwrap();
-    let scene = Aabb::new(c[0].min(c[4]).with_y(-352098.12469665974).with_z(-412657.99840040255), DVec3::new(308252.3173589797, 352098.12469665974, 412657.99840040255)).unwrap();
+    let scene = Aabb::new(
+        c[0].min(c[4]).with_y(-352098.12469665974).with_z(-412657.99840040255),
+        DVec3::new(308252.3173589797, 352098.12469665974, 412657.99840040255),
+    )
+    .unwrap();
     let body = focus_body(&view, &Light::point(DVec3::ZERO).unwrap(), &scene).unwrap();
     let m = 412657.99840040255f64;
     assert!(body.face_count() >= 6);

@@ -256,7 +256,15 @@ fn spot_light(v: &View) -> impl Strategy<Value = Light> {
         .prop_filter_map("spot frustum", move |(pos, random_dir, aim_at_view, up, fovy, aspect, near, ratio)| {
             let target = (v2.corners()[0] + v2.corners()[6]) * 0.5;
             let forward = if aim_at_view && (target - pos).length() > 0.0 { target - pos } else { random_dir };
-            let cam = Camera { eye: pos, forward, up, fovy: fovy.to_radians(), aspect, near: near * size.max(1e-3), far: near * size.max(1e-3) * ratio };
+            let cam = Camera {
+                eye: pos,
+                forward,
+                up,
+                fovy: fovy.to_radians(),
+                aspect,
+                near: near * size.max(1e-3),
+                far: near * size.max(1e-3) * ratio,
+            };
             let f = Frustum::from_camera(&cam).ok()?;
             Light::spot(pos, f).ok()
         })
@@ -988,12 +996,7 @@ fn check_well_formed(c: &Case, body: &Body) -> Result<(), TestCaseError> {
                 .iter()
                 .map(|pl| body.vertices().iter().map(|v| -(pl.truncate().dot(*v) + pl.w)).fold(0.0, f64::max))
                 .fold(f64::INFINITY, f64::min);
-            prop_assert!(
-                body.volume() > 0.0 || width <= 4.0 * c.tolerance(),
-                "solid of width {:e} with volume {}",
-                width,
-                body.volume()
-            );
+            prop_assert!(body.volume() > 0.0 || width <= 4.0 * c.tolerance(), "solid of width {:e} with volume {}", width, body.volume());
             // Volume against the exact volume of the same rounded vertices:
             // V = ⅙ Σ_f Σ_k v_0 · (v_k × v_k+1), every product taken exactly
             // (f64 coordinates are dyadic: big integers at a common exponent).
@@ -1011,8 +1014,13 @@ fn check_well_formed(c: &Case, body: &Body) -> Result<(), TestCaseError> {
             let six_v = exact_six_volume(&tris);
             let reference = six_v / 6.0; // six_v is the exact sum, rounded once
             let allowed = 1e-9 * reference.abs() + 4.0 * area * tol;
-            prop_assert!((body.volume() - reference).abs() <= allowed,
-                "volume {} but the vertices enclose {} (allowed difference {:e})", body.volume(), reference, allowed);
+            prop_assert!(
+                (body.volume() - reference).abs() <= allowed,
+                "volume {} but the vertices enclose {} (allowed difference {:e})",
+                body.volume(),
+                reference,
+                allowed
+            );
             // Outward unit face planes with every vertex on the inner side
             // and the face's own vertices on the plane, up to rounding.
             // NOTE: a face plane's offset is off by up to FACE_PLANE_REL of
@@ -1060,7 +1068,11 @@ fn exact_six_volume(tris: &[[DVec3; 3]]) -> f64 {
         let frac = bits & ((1u64 << 52) - 1);
         let (m, e) = if exp == 0 { (frac, -1074) } else { (frac | (1 << 52), exp - 1075) };
         let v = BigInt::from(m) << ((e + 1074) as usize);
-        if x < 0.0 { -v } else { v }
+        if x < 0.0 {
+            -v
+        } else {
+            v
+        }
     };
     let mut sum = BigInt::from(0);
     for [a, b, c] in tris {
@@ -1082,7 +1094,11 @@ fn exact_six_volume(tris: &[[DVec3; 3]]) -> f64 {
         v *= 2f64.powi(step as i32);
         k -= step;
     }
-    if sign == num_bigint::Sign::Minus { -v } else { v }
+    if sign == num_bigint::Sign::Minus {
+        -v
+    } else {
+        v
+    }
 }
 
 /// The floating-point path must answer ordinary frames (a tilted camera, a

@@ -1,7 +1,7 @@
 //! Regressions found by the property tests and the fuzz targets, replayed
 //! as fixed inputs so that they keep failing loudly if they come back.
 
-use shadowfocus_geom::{focus_body, focus_body_into, Aabb, Apex, Body, Camera, Dimension, DVec3, Frustum, Light, Plane, Polytope};
+use shadowfocus_geom::{focus_body, focus_body_into, Aabb, Apex, Body, Camera, DVec3, Dimension, Frustum, Light, Plane, Polytope};
 
 /// A point light 1e13 away with the scene holding both V and the light:
 /// H is the pyramid over V's far face with its apex at the light. Volume
@@ -369,7 +369,9 @@ fn flat_bodies_stay_on_the_float_path() {
     // Travelling along −z: V swept toward +z, so nothing beyond the far
     // face (z < −8) but the far face itself.
     let behind = Light::directional(DVec3::new(0.0, 0.0, -1.0)).unwrap();
-    for (scene, light, dim, verts) in [(ground, sun, Dimension::Polygon, None), (edge, behind, Dimension::Segment, Some(2)), (corner, behind, Dimension::Point, Some(1))] {
+    for (scene, light, dim, verts) in
+        [(ground, sun, Dimension::Polygon, None), (edge, behind, Dimension::Segment, Some(2)), (corner, behind, Dimension::Point, Some(1))]
+    {
         let body = focus_body(&view, &light, &scene).unwrap();
         assert_eq!(body.dimension(), dim, "{body:?}");
         if let Some(n) = verts {
@@ -437,7 +439,11 @@ fn a_loosely_bounded_vertex_is_placed_exactly_on_the_float_path() {
     ];
     let view = Frustum::from_corners(corners.map(DVec3::from_array)).unwrap();
     let light = Light::point(DVec3::new(18.98889081720511, 9.77587382772554, 6.25)).unwrap();
-    let scene = Aabb::new(DVec3::new(-6.675206755009029, -82.24755691894177, 8.141940478029543), DVec3::new(24.936930825898813, 61.09631574774872, 46.35613727956077)).unwrap();
+    let scene = Aabb::new(
+        DVec3::new(-6.675206755009029, -82.24755691894177, 8.141940478029543),
+        DVec3::new(24.936930825898813, 61.09631574774872, 46.35613727956077),
+    )
+    .unwrap();
     let body = focus_body(&view, &light, &scene).unwrap();
     assert!(body.stats().exact_evaluations > 0, "no vertex needed exact placement: {:?}", body.stats());
     assert_float_path_matches_exact_engine(&body, &view, &light, &scene);

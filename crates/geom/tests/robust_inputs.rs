@@ -1,10 +1,21 @@
 //! Public API on unusual input: long and short directions, checked boxes,
 //! checked face indices. Typed errors or right answers, never a panic.
 
-use shadowfocus_geom::{focus_body, focus_body_exact_into, unit_direction, Aabb, Body, Camera, DVec3, Frustum, GeomError, Light, Polytope, ROUNDING_ULPS};
+use shadowfocus_geom::{
+    focus_body, focus_body_exact_into, unit_direction, Aabb, Body, Camera, DVec3, Frustum, GeomError, Light, Polytope, ROUNDING_ULPS,
+};
 
 fn view() -> Frustum {
-    Frustum::from_camera(&Camera { eye: DVec3::new(0.0, 2.0, 10.0), forward: DVec3::NEG_Z, up: DVec3::Y, fovy: 1.0, aspect: 1.5, near: 0.5, far: 100.0 }).unwrap()
+    Frustum::from_camera(&Camera {
+        eye: DVec3::new(0.0, 2.0, 10.0),
+        forward: DVec3::NEG_Z,
+        up: DVec3::Y,
+        fovy: 1.0,
+        aspect: 1.5,
+        near: 0.5,
+        far: 100.0,
+    })
+    .unwrap()
 }
 
 fn scene() -> Aabb {

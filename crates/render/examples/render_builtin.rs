@@ -19,18 +19,9 @@ fn main() -> Result<(), RenderError> {
         names = BUILTIN_SCENES.iter().map(|s| s.to_string()).collect();
     }
     let size = std::env::var("SF_SIZE").unwrap_or_else(|_| "640x360".into());
-    let (w, h) = size
-        .split_once('x')
-        .and_then(|(a, b)| Some((a.parse().ok()?, b.parse().ok()?)))
-        .unwrap_or((640, 360));
-    let res: u32 = std::env::var("SF_RES")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(1024);
-    let splits: usize = std::env::var("SF_SPLITS")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(1);
+    let (w, h) = size.split_once('x').and_then(|(a, b)| Some((a.parse().ok()?, b.parse().ok()?))).unwrap_or((640, 360));
+    let res: u32 = std::env::var("SF_RES").ok().and_then(|v| v.parse().ok()).unwrap_or(1024);
+    let splits: usize = std::env::var("SF_SPLITS").ok().and_then(|v| v.parse().ok()).unwrap_or(1);
     let mut renderer = Renderer::from_env()?;
     eprintln!("adapter: {:?}", renderer.adapter());
     let mut tiles = Vec::new();
@@ -40,15 +31,8 @@ fn main() -> Result<(), RenderError> {
         let build_ms = t0.elapsed().as_secs_f64() * 1e3;
         let aspect = w as f64 / h as f64;
         let maps = match (splits > 1, scene.light) {
-            (true, LightSpec::Directional { .. }) => {
-                testfit::split_maps(&scene, &scene.camera, &scene.light, aspect, splits)?
-            }
-            _ => vec![testfit::scene_box_map(
-                &scene,
-                &scene.camera,
-                &scene.light,
-                aspect,
-            )?],
+            (true, LightSpec::Directional { .. }) => testfit::split_maps(&scene, &scene.camera, &scene.light, aspect, splits)?,
+            _ => vec![testfit::scene_box_map(&scene, &scene.camera, &scene.light, aspect)?],
         };
         let mut req = RenderRequest::new(&scene, &maps);
         req.settings.width = w;
@@ -60,34 +44,21 @@ fn main() -> Result<(), RenderError> {
             req.settings.pcf = match p.as_str() {
                 "off" => Pcf::Off,
                 "hw" => Pcf::Hardware2x2,
-                r => Pcf::Kernel {
-                    radius: r.parse().unwrap_or(1),
-                },
+                r => Pcf::Kernel { radius: r.parse().unwrap_or(1) },
             };
         }
         if let Some(b) = env("SF_BAND").and_then(|v| v.parse().ok()) {
             req.settings.blend_band = b;
         }
         if let Some(r) = env("SF_BLUR").and_then(|v| v.parse().ok()) {
-            req.settings.blur = Some(EyeBlur {
-                world_radius: r,
-                max_radius_px: 8.0,
-                iterations: 2,
-            });
+            req.settings.blur = Some(EyeBlur { world_radius: r, max_radius_px: 8.0, iterations: 2 });
         }
         if env("SF_LINEAR").as_deref() == Some("1") {
-            req.settings.depth = DepthMode::Linear {
-                constant: 2e-5,
-                slope_scale: 2.0,
-            };
+            req.settings.depth = DepthMode::Linear { constant: 2e-5, slope_scale: 2.0 };
         }
         let out = renderer.render(&req)?;
         let dir = out_dir.join(name.replace(['/', '.'], "_"));
-        write_outputs(
-            &dir,
-            &out,
-            Some(&serde_json::json!({ "method": "test-fit", "scene_build_ms": build_ms })),
-        )?;
+        write_outputs(&dir, &out, Some(&serde_json::json!({ "method": "test-fit", "scene_build_ms": build_ms })))?;
         let m = &out.metrics;
         let mm = m.mismatch.unwrap_or_default();
         println!(
@@ -108,13 +79,7 @@ fn main() -> Result<(), RenderError> {
             m.casters.drawn,
             m.casters.total
         );
-        tiles.push((
-            out.color.downscale(2),
-            format!(
-                "{name}  e p95 {:.2}  mismatch {:.3}",
-                m.aliasing.p95, mm.rate_off_edges
-            ),
-        ));
+        tiles.push((out.color.downscale(2), format!("{name}  e p95 {:.2}  mismatch {:.3}", m.aliasing.p95, mm.rate_off_edges)));
     }
     let refs: Vec<(&Image, &str)> = tiles.iter().map(|(i, l)| (i, l.as_str())).collect();
     contact_sheet(&refs, 3).save_png(&out_dir.join("contact_sheet.png"))?;

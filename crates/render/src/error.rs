@@ -43,10 +43,7 @@ pub enum RenderError {
 
 impl RenderError {
     pub(crate) fn invalid(what: impl Into<String>, reason: impl Into<String>) -> Self {
-        RenderError::Invalid {
-            what: what.into(),
-            reason: reason.into(),
-        }
+        RenderError::Invalid { what: what.into(), reason: reason.into() }
     }
 }
 
@@ -55,8 +52,6 @@ pub(crate) fn check_finite(what: &str, values: &[f64]) -> Result<(), RenderError
     if values.iter().all(|v| v.is_finite()) {
         Ok(())
     } else {
-        Err(RenderError::NonFinite {
-            what: what.to_string(),
-        })
+        Err(RenderError::NonFinite { what: what.to_string() })
     }
 }

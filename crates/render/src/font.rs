@@ -99,14 +99,9 @@ mod tests {
 
     #[test]
     fn glyphs_fit_five_columns_and_differ() {
-        let chars: Vec<char> = "0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZ.,:;-+/()[]=%_'!<>*#"
-            .chars()
-            .collect();
+        let chars: Vec<char> = "0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZ.,:;-+/()[]=%_'!<>*#".chars().collect();
         for &c in &chars {
-            assert!(
-                glyph(c).iter().all(|&r| r < 0x20),
-                "{c} uses more than 5 columns"
-            );
+            assert!(glyph(c).iter().all(|&r| r < 0x20), "{c} uses more than 5 columns");
         }
         for (i, &a) in chars.iter().enumerate() {
             for &b in &chars[i + 1..] {

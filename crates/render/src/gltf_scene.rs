@@ -20,10 +20,7 @@ pub struct GltfReport {
 }
 
 fn gerr(path: &Path, reason: impl Into<String>) -> RenderError {
-    RenderError::Gltf {
-        path: path.to_path_buf(),
-        reason: reason.into(),
-    }
+    RenderError::Gltf { path: path.to_path_buf(), reason: reason.into() }
 }
 
 /// Standard base64 (RFC 4648), whitespace ignored.
@@ -72,24 +69,15 @@ fn percent_decode(s: &str) -> String {
 }
 
 fn load_buffers(path: &Path, gltf: &gltf::Gltf) -> Result<Vec<Vec<u8>>, RenderError> {
-    let base = path
-        .parent()
-        .map(Path::to_path_buf)
-        .unwrap_or_else(|| PathBuf::from("."));
+    let base = path.parent().map(Path::to_path_buf).unwrap_or_else(|| PathBuf::from("."));
     let mut out = Vec::new();
     for buf in gltf.document.buffers() {
         let mut data = match buf.source() {
-            gltf::buffer::Source::Bin => gltf
-                .blob
-                .clone()
-                .ok_or_else(|| gerr(path, "buffer refers to a missing GLB binary chunk"))?,
+            gltf::buffer::Source::Bin => gltf.blob.clone().ok_or_else(|| gerr(path, "buffer refers to a missing GLB binary chunk"))?,
             gltf::buffer::Source::Uri(uri) => {
                 if let Some(rest) = uri.strip_prefix("data:") {
-                    let (_, payload) = rest
-                        .split_once(";base64,")
-                        .ok_or_else(|| gerr(path, "data URI is not base64"))?;
-                    base64_decode(payload)
-                        .ok_or_else(|| gerr(path, "malformed base64 in a data URI"))?
+                    let (_, payload) = rest.split_once(";base64,").ok_or_else(|| gerr(path, "data URI is not base64"))?;
+                    base64_decode(payload).ok_or_else(|| gerr(path, "malformed base64 in a data URI"))?
                 } else {
                     let p = base.join(percent_decode(uri));
                     std::fs::read(&p).map_err(|source| RenderError::Io { path: p, source })?
@@ -97,15 +85,7 @@ fn load_buffers(path: &Path, gltf: &gltf::Gltf) -> Result<Vec<Vec<u8>>, RenderEr
             }
         };
         if data.len() < buf.length() {
-            return Err(gerr(
-                path,
-                format!(
-                    "buffer {} has {} bytes, declares {}",
-                    buf.index(),
-                    data.len(),
-                    buf.length()
-                ),
-            ));
+            return Err(gerr(path, format!("buffer {} has {} bytes, declares {}", buf.index(), data.len(), buf.length())));
         }
         // GLB chunks are padded to 4 bytes; the declared length is what accessors may read.
         data.truncate(buf.length());
@@ -143,12 +123,7 @@ fn visit(
     if let Some(mesh) = node.mesh() {
         for prim in mesh.primitives() {
             let mode = prim.mode();
-            if !matches!(
-                mode,
-                gltf::mesh::Mode::Triangles
-                    | gltf::mesh::Mode::TriangleStrip
-                    | gltf::mesh::Mode::TriangleFan
-            ) {
+            if !matches!(mode, gltf::mesh::Mode::Triangles | gltf::mesh::Mode::TriangleStrip | gltf::mesh::Mode::TriangleFan) {
                 found.skipped += 1;
                 continue;
             }
@@ -171,10 +146,7 @@ fn visit(
                 None => (0..count).collect(),
             };
             if let Some(&bad) = idx.iter().find(|&&i| i >= count) {
-                return Err(gerr(
-                    path,
-                    format!("mesh {} index {bad} ≥ vertex count {count}", mesh.index()),
-                ));
+                return Err(gerr(path, format!("mesh {} index {bad} ≥ vertex count {count}", mesh.index())));
             }
             mb.begin(true);
             match mode {
@@ -185,11 +157,7 @@ fn visit(
                 }
                 gltf::mesh::Mode::TriangleStrip => {
                     for k in 2..idx.len() {
-                        let (a, b) = if k % 2 == 0 {
-                            (idx[k - 2], idx[k - 1])
-                        } else {
-                            (idx[k - 1], idx[k - 2])
-                        };
+                        let (a, b) = if k % 2 == 0 { (idx[k - 2], idx[k - 1]) } else { (idx[k - 1], idx[k - 2]) };
                         mb.tri(base + a, base + b, base + idx[k]);
                     }
                 }
@@ -207,12 +175,7 @@ fn visit(
         if let Some(cam) = node.camera() {
             match cam.projection() {
                 gltf::camera::Projection::Perspective(p) => {
-                    found.camera = Some((
-                        world,
-                        p.yfov() as f64,
-                        p.znear() as f64,
-                        p.zfar().map(|f| f as f64),
-                    ));
+                    found.camera = Some((world, p.yfov() as f64, p.znear() as f64, p.zfar().map(|f| f as f64)));
                 }
                 gltf::camera::Projection::Orthographic(_) => found.orthographic_camera = true,
             }
@@ -234,60 +197,27 @@ pub fn default_camera(bounds: &Bounds) -> CameraSpec {
     let d = bounds.diagonal().max(1e-6);
     let c = bounds.center();
     let eye = c + DVec3::new(0.55, 0.45, 0.75).normalize() * d * 0.9;
-    CameraSpec {
-        eye,
-        forward: c - eye,
-        up: DVec3::Y,
-        fovy: 50f64.to_radians(),
-        near: d * 1e-3,
-        far: d * 2.5,
-    }
+    CameraSpec { eye, forward: c - eye, up: DVec3::Y, fovy: 50f64.to_radians(), near: d * 1e-3, far: d * 2.5 }
 }
 
 /// A sun from above, for files without a light.
 pub fn default_light() -> LightSpec {
-    LightSpec::Directional {
-        direction: DVec3::new(0.4, -0.8, 0.3),
-    }
+    LightSpec::Directional { direction: DVec3::new(0.4, -0.8, 0.3) }
 }
 
 /// Loads `path` (.gltf or .glb). The file's first perspective camera and first
 /// `KHR_lights_punctual` light (depth-first in the default scene) are used unless overridden;
 /// without either, [`default_camera`] / [`default_light`] fill in.
-pub fn load_gltf(
-    path: &Path,
-    camera: Option<CameraSpec>,
-    light: Option<LightSpec>,
-) -> Result<(Scene, GltfReport), RenderError> {
-    let bytes = std::fs::read(path).map_err(|source| RenderError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+pub fn load_gltf(path: &Path, camera: Option<CameraSpec>, light: Option<LightSpec>) -> Result<(Scene, GltfReport), RenderError> {
+    let bytes = std::fs::read(path).map_err(|source| RenderError::Io { path: path.to_path_buf(), source })?;
     let gltf = gltf::Gltf::from_slice(&bytes).map_err(|e| gerr(path, e.to_string()))?;
     let buffers = load_buffers(path, &gltf)?;
     let doc = &gltf.document;
-    let scene = doc
-        .default_scene()
-        .or_else(|| doc.scenes().next())
-        .ok_or_else(|| gerr(path, "no scene"))?;
+    let scene = doc.default_scene().or_else(|| doc.scenes().next()).ok_or_else(|| gerr(path, "no scene"))?;
     let mut mb = MeshBuilder::default();
-    let mut found = Found {
-        camera: None,
-        orthographic_camera: false,
-        light: None,
-        primitives: 0,
-        skipped: 0,
-    };
+    let mut found = Found { camera: None, orthographic_camera: false, light: None, primitives: 0, skipped: 0 };
     for node in scene.nodes() {
-        visit(
-            path,
-            node,
-            DMat4::IDENTITY,
-            &buffers,
-            &mut mb,
-            &mut found,
-            0,
-        )?;
+        visit(path, node, DMat4::IDENTITY, &buffers, &mut mb, &mut found, 0)?;
     }
     mb.end();
     if mb.indices.is_empty() {
@@ -297,33 +227,17 @@ pub fn load_gltf(
     for v in &mb.vertices {
         bounds.grow(glam::Vec3::from(v.position).as_dvec3());
     }
-    let far_corner = |p: DVec3| {
-        bounds
-            .corners()
-            .iter()
-            .map(|c| (*c - p).length())
-            .fold(0.0, f64::max)
-    };
+    let far_corner = |p: DVec3| bounds.corners().iter().map(|c| (*c - p).length()).fold(0.0, f64::max);
     let camera_from_file = camera.is_none() && found.camera.is_some();
     let cam = match (camera, found.camera) {
         (Some(c), _) => c,
         (None, Some((m, yfov, znear, zfar))) => {
             let eye = m.transform_point3(DVec3::ZERO);
             let far = zfar.unwrap_or_else(|| far_corner(eye) * 1.01 + znear);
-            CameraSpec {
-                eye,
-                forward: m.transform_vector3(-DVec3::Z),
-                up: m.transform_vector3(DVec3::Y),
-                fovy: yfov,
-                near: znear,
-                far,
-            }
+            CameraSpec { eye, forward: m.transform_vector3(-DVec3::Z), up: m.transform_vector3(DVec3::Y), fovy: yfov, near: znear, far }
         }
         (None, None) if found.orthographic_camera => {
-            return Err(gerr(
-                path,
-                "the file's camera is orthographic; pass a perspective camera explicitly",
-            ))
+            return Err(gerr(path, "the file's camera is orthographic; pass a perspective camera explicitly"))
         }
         (None, None) => default_camera(&bounds),
     };
@@ -334,41 +248,21 @@ pub fn load_gltf(
             let pos = m.transform_point3(DVec3::ZERO);
             let dir = m.transform_vector3(-DVec3::Z);
             match kind {
-                gltf::khr_lights_punctual::Kind::Directional => {
-                    LightSpec::Directional { direction: dir }
-                }
+                gltf::khr_lights_punctual::Kind::Directional => LightSpec::Directional { direction: dir },
                 gltf::khr_lights_punctual::Kind::Point => LightSpec::Point { position: pos },
-                gltf::khr_lights_punctual::Kind::Spot {
-                    outer_cone_angle, ..
-                } => {
+                gltf::khr_lights_punctual::Kind::Spot { outer_cone_angle, .. } => {
                     // The lit cone fits inside a square pyramid of the same half-angle.
-                    let fovy =
-                        (2.0 * outer_cone_angle as f64).clamp(1e-3, std::f64::consts::PI - 1e-3);
+                    let fovy = (2.0 * outer_cone_angle as f64).clamp(1e-3, std::f64::consts::PI - 1e-3);
                     let far = range.unwrap_or_else(|| far_corner(pos) * 1.01).max(1e-6);
                     let up = m.transform_vector3(DVec3::Y);
-                    LightSpec::Spot {
-                        position: pos,
-                        direction: dir,
-                        up,
-                        fovy,
-                        near: (far * 1e-4).max(1e-6),
-                        far,
-                    }
+                    LightSpec::Spot { position: pos, direction: dir, up, fovy, near: (far * 1e-4).max(1e-6), far }
                 }
             }
         }
         (None, None) => default_light(),
     };
-    let name = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "gltf".into());
-    let report = GltfReport {
-        camera_from_file,
-        light_from_file,
-        primitives: found.primitives,
-        skipped_primitives: found.skipped,
-    };
+    let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "gltf".into());
+    let report = GltfReport { camera_from_file, light_from_file, primitives: found.primitives, skipped_primitives: found.skipped };
     let scene = Scene::new(name, mb.vertices, mb.indices, &mb.objects, cam, lt)?;
     Ok((scene, report))
 }
@@ -376,10 +270,7 @@ pub fn load_gltf(
 /// A built-in scene name or a path to a .gltf/.glb file.
 pub fn load_scene(name_or_path: &str) -> Result<Scene, RenderError> {
     let p = Path::new(name_or_path);
-    let is_file = p
-        .extension()
-        .map(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"))
-        .unwrap_or(false);
+    let is_file = p.extension().map(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb")).unwrap_or(false);
     if is_file {
         load_gltf(p, None, None).map(|(s, _)| s)
     } else {

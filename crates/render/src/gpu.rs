@@ -27,10 +27,7 @@ impl BackendChoice {
             "" | "auto" => Ok(BackendChoice::Auto),
             "gl" | "gles" | "opengl" => Ok(BackendChoice::Gl),
             "vulkan" | "vk" => Ok(BackendChoice::Vulkan),
-            other => Err(RenderError::invalid(
-                BACKEND_ENV,
-                format!("'{other}' is not one of gl, vulkan, auto"),
-            )),
+            other => Err(RenderError::invalid(BACKEND_ENV, format!("'{other}' is not one of gl, vulkan, auto"))),
         }
     }
 
@@ -85,11 +82,7 @@ fn rank(info: &wgpu::AdapterInfo) -> u32 {
         wgpu::DeviceType::Other => 10,
         wgpu::DeviceType::Cpu => 0,
     };
-    hw + if info.backend == wgpu::Backend::Vulkan {
-        2
-    } else {
-        1
-    }
+    hw + if info.backend == wgpu::Backend::Vulkan { 2 } else { 1 }
 }
 
 const NO_ADAPTER_HINT: &str = "Headless rendering needs Mesa on a machine without a GPU: \
@@ -114,10 +107,7 @@ impl Gpu {
         let adapter = adapters
             .into_iter()
             .next()
-            .ok_or_else(|| RenderError::NoAdapter {
-                tried: tried.clone(),
-                hint: NO_ADAPTER_HINT.to_string(),
-            })?;
+            .ok_or_else(|| RenderError::NoAdapter { tried: tried.clone(), hint: NO_ADAPTER_HINT.to_string() })?;
         let info = adapter.get_info();
         let limits = adapter.limits();
         // The G-buffer writes 48 bytes per pixel in four targets; WebGPU's default budget is 32,
@@ -131,9 +121,7 @@ impl Gpu {
                 ),
             });
         }
-        let depth_clamp = adapter
-            .features()
-            .contains(wgpu::Features::DEPTH_CLIP_CONTROL);
+        let depth_clamp = adapter.features().contains(wgpu::Features::DEPTH_CLIP_CONTROL);
         let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
         let mut features = wgpu::Features::empty();
         features.set(wgpu::Features::DEPTH_CLIP_CONTROL, depth_clamp);
@@ -158,29 +146,16 @@ impl Gpu {
             name: info.name.clone(),
             backend: format!("{:?}", info.backend).to_lowercase(),
             device_type: format!("{:?}", info.device_type),
-            driver: format!("{} {}", info.driver, info.driver_info)
-                .trim()
-                .to_string(),
+            driver: format!("{} {}", info.driver, info.driver_info).trim().to_string(),
             depth_clamp,
             timestamps,
         };
-        Ok(Gpu {
-            device,
-            queue,
-            summary,
-            limits,
-            errors,
-            _instance: instance,
-            _adapter: adapter,
-        })
+        Ok(Gpu { device, queue, summary, limits, errors, _instance: instance, _adapter: adapter })
     }
 
     /// Returns and clears the errors wgpu reported since the last call.
     pub fn take_errors(&self) -> Result<(), RenderError> {
-        let mut v = self
-            .errors
-            .lock()
-            .map_err(|_| RenderError::Gpu("error sink poisoned".into()))?;
+        let mut v = self.errors.lock().map_err(|_| RenderError::Gpu("error sink poisoned".into()))?;
         if v.is_empty() {
             Ok(())
         } else {
@@ -191,10 +166,7 @@ impl Gpu {
     }
 
     pub fn wait(&self) -> Result<(), RenderError> {
-        self.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map(|_| ())
-            .map_err(|e| RenderError::Gpu(format!("poll: {e}")))
+        self.device.poll(wgpu::PollType::wait_indefinitely()).map(|_| ()).map_err(|e| RenderError::Gpu(format!("poll: {e}")))
     }
 }
 

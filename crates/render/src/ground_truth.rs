@@ -40,25 +40,12 @@ pub struct GroundTruth {
 
 impl GroundTruth {
     pub fn new(scene: &Scene) -> Result<GroundTruth, RenderError> {
-        let vertices: Vec<DVec3> = scene
-            .vertices
-            .iter()
-            .map(|v| glam::Vec3::from(v.position).as_dvec3())
-            .collect();
-        let indices: Vec<[u32; 3]> = scene
-            .indices
-            .chunks_exact(3)
-            .map(|t| [t[0], t[1], t[2]])
-            .collect();
-        let mesh = TriMesh::new(vertices, indices)
-            .map_err(|e| RenderError::GroundTruth(format!("{e:?}")))?;
+        let vertices: Vec<DVec3> = scene.vertices.iter().map(|v| glam::Vec3::from(v.position).as_dvec3()).collect();
+        let indices: Vec<[u32; 3]> = scene.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
+        let mesh = TriMesh::new(vertices, indices).map_err(|e| RenderError::GroundTruth(format!("{e:?}")))?;
         let b = scene.bounds;
         let magnitude = b.min.abs().max(b.max.abs()).max_element();
-        Ok(GroundTruth {
-            mesh,
-            magnitude,
-            extent: b.diagonal(),
-        })
+        Ok(GroundTruth { mesh, magnitude, extent: b.diagonal() })
     }
 
     /// Offset of ray origins along the surface normal.
@@ -102,18 +89,10 @@ impl GroundTruth {
 
     /// Classifies every pixel. `world[i].w == 0` marks background; `normal` is the camera-facing
     /// unit normal. Runs on all cores.
-    pub fn classify_image(
-        &self,
-        world: &[[f32; 4]],
-        normal: &[[f32; 4]],
-        light: &LightSpec,
-    ) -> Vec<Visibility> {
+    pub fn classify_image(&self, world: &[[f32; 4]], normal: &[[f32; 4]], light: &LightSpec) -> Vec<Visibility> {
         let n = world.len();
         let mut out = vec![Visibility::Background; n];
-        let threads = std::thread::available_parallelism()
-            .map(|t| t.get())
-            .unwrap_or(1)
-            .clamp(1, 64);
+        let threads = std::thread::available_parallelism().map(|t| t.get()).unwrap_or(1).clamp(1, 64);
         let chunk = n.div_ceil(threads).max(1);
         std::thread::scope(|s| {
             for (k, slot) in out.chunks_mut(chunk).enumerate() {
@@ -126,8 +105,7 @@ impl GroundTruth {
                         }
                         let p = DVec3::new(w[0] as f64, w[1] as f64, w[2] as f64);
                         let nn = normal[start + j];
-                        let nrm = DVec3::new(nn[0] as f64, nn[1] as f64, nn[2] as f64)
-                            .normalize_or_zero();
+                        let nrm = DVec3::new(nn[0] as f64, nn[1] as f64, nn[2] as f64).normalize_or_zero();
                         *v = self.classify(p, nrm, light);
                     }
                 });

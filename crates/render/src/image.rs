@@ -20,21 +20,12 @@ impl Image {
         for _ in 0..width as usize * height as usize {
             rgba.extend_from_slice(&fill);
         }
-        Image {
-            width,
-            height,
-            rgba,
-        }
+        Image { width, height, rgba }
     }
 
     pub fn get(&self, x: u32, y: u32) -> [u8; 4] {
         let i = (y as usize * self.width as usize + x as usize) * 4;
-        [
-            self.rgba[i],
-            self.rgba[i + 1],
-            self.rgba[i + 2],
-            self.rgba[i + 3],
-        ]
+        [self.rgba[i], self.rgba[i + 1], self.rgba[i + 2], self.rgba[i + 3]]
     }
 
     pub fn put(&mut self, x: i64, y: i64, c: [u8; 4]) {
@@ -88,49 +79,28 @@ impl Image {
                     }
                 }
                 let n = n.max(1);
-                out.put(
-                    x as i64,
-                    y as i64,
-                    [
-                        (acc[0] / n) as u8,
-                        (acc[1] / n) as u8,
-                        (acc[2] / n) as u8,
-                        (acc[3] / n) as u8,
-                    ],
-                );
+                out.put(x as i64, y as i64, [(acc[0] / n) as u8, (acc[1] / n) as u8, (acc[2] / n) as u8, (acc[3] / n) as u8]);
             }
         }
         out
     }
 
     pub fn save_png(&self, path: &Path) -> Result<(), RenderError> {
-        let file = std::fs::File::create(path).map_err(|source| RenderError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let file = std::fs::File::create(path).map_err(|source| RenderError::Io { path: path.to_path_buf(), source })?;
         let mut enc = png::Encoder::new(BufWriter::new(file), self.width, self.height);
         enc.set_color(png::ColorType::Rgba);
         enc.set_depth(png::BitDepth::Eight);
-        let png_err = |e: png::EncodingError| RenderError::Png {
-            path: path.to_path_buf(),
-            reason: e.to_string(),
-        };
+        let png_err = |e: png::EncodingError| RenderError::Png { path: path.to_path_buf(), reason: e.to_string() };
         let mut w = enc.write_header().map_err(png_err)?;
         w.write_image_data(&self.rgba).map_err(png_err)?;
         w.finish().map_err(png_err)
     }
 
     pub fn load_png(path: &Path) -> Result<Image, RenderError> {
-        let file = std::fs::File::open(path).map_err(|source| RenderError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let file = std::fs::File::open(path).map_err(|source| RenderError::Io { path: path.to_path_buf(), source })?;
         let mut dec = png::Decoder::new(std::io::BufReader::new(file));
         dec.set_transformations(png::Transformations::EXPAND);
-        let err = |e: png::DecodingError| RenderError::Png {
-            path: path.to_path_buf(),
-            reason: e.to_string(),
-        };
+        let err = |e: png::DecodingError| RenderError::Png { path: path.to_path_buf(), reason: e.to_string() };
         let mut reader = dec.read_info().map_err(err)?;
         let mut buf = vec![0; reader.output_buffer_size()];
         let info = reader.next_frame(&mut buf).map_err(err)?;
@@ -138,33 +108,15 @@ impl Image {
         let n = (info.width * info.height) as usize;
         let rgba = match info.color_type {
             png::ColorType::Rgba => buf,
-            png::ColorType::Rgb => buf
-                .chunks_exact(3)
-                .flat_map(|p| [p[0], p[1], p[2], 255])
-                .collect(),
+            png::ColorType::Rgb => buf.chunks_exact(3).flat_map(|p| [p[0], p[1], p[2], 255]).collect(),
             png::ColorType::Grayscale => buf.iter().flat_map(|&g| [g, g, g, 255]).collect(),
-            png::ColorType::GrayscaleAlpha => buf
-                .chunks_exact(2)
-                .flat_map(|p| [p[0], p[0], p[0], p[1]])
-                .collect(),
-            other => {
-                return Err(RenderError::Png {
-                    path: path.to_path_buf(),
-                    reason: format!("unsupported colour type {other:?}"),
-                })
-            }
+            png::ColorType::GrayscaleAlpha => buf.chunks_exact(2).flat_map(|p| [p[0], p[0], p[0], p[1]]).collect(),
+            other => return Err(RenderError::Png { path: path.to_path_buf(), reason: format!("unsupported colour type {other:?}") }),
         };
         if rgba.len() != n * 4 || info.bit_depth != png::BitDepth::Eight {
-            return Err(RenderError::Png {
-                path: path.to_path_buf(),
-                reason: "only 8-bit images are supported".into(),
-            });
+            return Err(RenderError::Png { path: path.to_path_buf(), reason: "only 8-bit images are supported".into() });
         }
-        Ok(Image {
-            width: info.width,
-            height: info.height,
-            rgba,
-        })
+        Ok(Image { width: info.width, height: info.height, rgba })
     }
 }
 
@@ -173,11 +125,7 @@ impl Image {
 pub fn aliasing_color(e: f32) -> [u8; 4] {
     let t = (e.max(1e-30).log2() / 3.0).clamp(-1.0, 1.0);
     let lerp = |a: [f32; 3], b: [f32; 3], s: f32| -> [u8; 4] {
-        let c = |k: usize| {
-            ((a[k] + (b[k] - a[k]) * s) * 255.0)
-                .round()
-                .clamp(0.0, 255.0) as u8
-        };
+        let c = |k: usize| ((a[k] + (b[k] - a[k]) * s) * 255.0).round().clamp(0.0, 255.0) as u8;
         [c(0), c(1), c(2), 255]
     };
     const BLUE: [f32; 3] = [0.10, 0.25, 0.85];
@@ -204,13 +152,7 @@ const LEGEND_H: u32 = 34;
 /// Aliasing heatmap: `e` per pixel (−1 = geometry no map covers, [`HEAT_UNLIT_VALUE`] = outside
 /// the light, NaN = background), with a legend strip labelled in screen pixels per shadow texel.
 /// Pixels whose `receiver` flag is false (not counted in the statistics) are drawn faded.
-pub fn aliasing_heatmap(
-    width: u32,
-    height: u32,
-    e: &[f32],
-    receiver: Option<&[bool]>,
-    title: &str,
-) -> Image {
+pub fn aliasing_heatmap(width: u32, height: u32, e: &[f32], receiver: Option<&[bool]>, title: &str) -> Image {
     let mut img = Image::new(width, height + LEGEND_H, [255, 255, 255, 255]);
     for y in 0..height {
         for x in 0..width {
@@ -224,9 +166,7 @@ pub fn aliasing_heatmap(
             } else {
                 aliasing_color(v)
             };
-            let counted = receiver
-                .map(|r| r[(y * width + x) as usize])
-                .unwrap_or(true);
+            let counted = receiver.map(|r| r[(y * width + x) as usize]).unwrap_or(true);
             let c = if counted || v.is_nan() {
                 c
             } else {
@@ -249,17 +189,9 @@ pub fn aliasing_heatmap(
         let x = bar_x + (bar_w - 1) * k as i64 / 6;
         img.fill_rect(x, y0 + 8, 1, 3, [0, 0, 0, 255]);
         let w = font::text_width(l, 1) as i64;
-        img.text(
-            (x - w / 2).clamp(0, width as i64 - w),
-            y0 + 12,
-            l,
-            1,
-            [0, 0, 0, 255],
-        );
+        img.text((x - w / 2).clamp(0, width as i64 - w), y0 + 12, l, 1, [0, 0, 0, 255]);
     }
-    let caption = format!(
-        "{title}  screen px per texel (>1 undersampled)  magenta: uncovered  faded: not a receiver"
-    );
+    let caption = format!("{title}  screen px per texel (>1 undersampled)  magenta: uncovered  faded: not a receiver");
     img.text(bar_x, y0 + 21, &caption, 1, [0, 0, 0, 255]);
     img
 }
@@ -308,12 +240,9 @@ pub fn mismatch_image(color: &Image, matches: &[PixelMatch]) -> Image {
     }
     let y0 = h as i64 + 3;
     let mut x = 4i64;
-    for (c, label) in [
-        (FALSE_SHADOW, "false shadow"),
-        (FALSE_LIGHT, "light leak"),
-        (FALSE_SHADOW_EDGE, "near edge"),
-        (FALSE_LIGHT_EDGE, "near edge"),
-    ] {
+    for (c, label) in
+        [(FALSE_SHADOW, "false shadow"), (FALSE_LIGHT, "light leak"), (FALSE_SHADOW_EDGE, "near edge"), (FALSE_LIGHT_EDGE, "near edge")]
+    {
         img.fill_rect(x, y0, 8, 8, c);
         img.text(x + 11, y0 + 1, label, 1, [0, 0, 0, 255]);
         x += 11 + font::text_width(label, 1) as i64 + 10;
@@ -382,10 +311,7 @@ mod tests {
         let a = aliasing_color(1.0);
         let b = aliasing_color(8.0);
         let c = aliasing_color(1.0 / 8.0);
-        assert!(
-            a[0] > 200 && a[1] > 200 && a[2] > 200,
-            "e = 1 should be near white: {a:?}"
-        );
+        assert!(a[0] > 200 && a[1] > 200 && a[2] > 200, "e = 1 should be near white: {a:?}");
         assert!(b[0] > 150 && b[1] < 60, "e = 8 should be red: {b:?}");
         assert!(c[2] > 150 && c[0] < 60, "e = 1/8 should be blue: {c:?}");
     }
@@ -409,11 +335,7 @@ mod tests {
         let s = contact_sheet(&[(&a, "A"), (&b, "B")], 2);
         assert_eq!(s.get(8, 8), [255, 0, 0, 255]);
         assert_eq!(s.get(8 + 10 + 8, 8), [0, 255, 0, 255]);
-        let dark = s
-            .rgba
-            .chunks_exact(4)
-            .filter(|p| p[0] == 0 && p[1] == 0 && p[2] == 0)
-            .count();
+        let dark = s.rgba.chunks_exact(4).filter(|p| p[0] == 0 && p[1] == 0 && p[2] == 0).count();
         assert!(dark > 0, "labels were drawn");
     }
 }

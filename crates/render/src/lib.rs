@@ -36,18 +36,10 @@ pub use error::RenderError;
 pub use gltf_scene::{default_camera, default_light, load_gltf, load_scene, GltfReport};
 pub use gpu::{AdapterSummary, BackendChoice, BACKEND_ENV};
 pub use ground_truth::{GroundTruth, Visibility};
-pub use image::{
-    aliasing_color, aliasing_heatmap, contact_sheet, depth_image, mismatch_image, Image,
-    PixelMatch, HEAT_UNLIT_VALUE,
-};
-pub use metrics::{
-    pixel_matches, AliasingStats, ADEQUATE_ALIASING, CasterStats, CoverageStats, MismatchStats, RenderMetrics,
-};
+pub use image::{aliasing_color, aliasing_heatmap, contact_sheet, depth_image, mismatch_image, Image, PixelMatch, HEAT_UNLIT_VALUE};
+pub use metrics::{pixel_matches, AliasingStats, CasterStats, CoverageStats, MismatchStats, RenderMetrics, ADEQUATE_ALIASING};
 pub use output::{aliasing_image, caption, metrics_json, mismatch_view, shadow_map_images, write_outputs};
 pub use renderer::{render_scene, DepthMap, RenderOutput, RenderRequest, Renderer};
 pub use scene::{Scene, SceneObject, Vertex};
 pub use scenes::{builtin_scene, BUILTIN_SCENES};
-pub use types::{
-    Bounds, CameraSpec, DepthMode, DepthTest, EyeBlur, LightSpec, Pcf, RenderSettings,
-    ShadowMapSpec, MAX_MAPS,
-};
+pub use types::{Bounds, CameraSpec, DepthMode, DepthTest, EyeBlur, LightSpec, Pcf, RenderSettings, ShadowMapSpec, MAX_MAPS};

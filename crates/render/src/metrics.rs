@@ -129,11 +129,7 @@ pub(crate) fn aliasing_stats(req: &RenderRequest, out: &RenderOutput) -> Aliasin
             continue;
         }
         let p = pixel_pos(w);
-        let n = DVec3::new(
-            out.normal[i][0] as f64,
-            out.normal[i][1] as f64,
-            out.normal[i][2] as f64,
-        );
+        let n = DVec3::new(out.normal[i][0] as f64, out.normal[i][1] as f64, out.normal[i][2] as f64);
         let (l, _) = req.light.toward_light(p);
         if n.dot(l) <= 0.0 || !req.light.in_spot(p) {
             continue;
@@ -141,35 +137,21 @@ pub(crate) fn aliasing_stats(req: &RenderRequest, out: &RenderOutput) -> Aliasin
         v.push(e as f64);
     }
     if v.is_empty() {
-        return AliasingStats {
-            max: f64::NAN,
-            p95: f64::NAN,
-            mean: f64::NAN,
-            pixels: 0,
-        };
+        return AliasingStats { max: f64::NAN, p95: f64::NAN, mean: f64::NAN, pixels: 0 };
     }
     let mean = v.iter().sum::<f64>() / v.len() as f64;
     let k = ((v.len() as f64 * 0.95).ceil() as usize).clamp(1, v.len()) - 1;
     let (_, p95, _) = v.select_nth_unstable_by(k, |a, b| a.total_cmp(b));
     let p95 = *p95;
     let max = v.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
-    AliasingStats {
-        max,
-        p95,
-        mean,
-        pixels: v.len() as u64,
-    }
+    AliasingStats { max, p95, mean, pixels: v.len() as u64 }
 }
 
 /// Classifies each pixel against the ground truth (which must be present).
 ///
 /// Back-facing and outside-spot pixels count as agreeing: the renderer and the ground truth take
 /// those decisions from the same normal and the same pyramid, so only the shadow test is judged.
-pub fn pixel_matches(
-    out: &RenderOutput,
-    truth: &[Visibility],
-    edge_radius: u32,
-) -> Vec<PixelMatch> {
+pub fn pixel_matches(out: &RenderOutput, truth: &[Visibility], edge_radius: u32) -> Vec<PixelMatch> {
     let (w, h) = (out.width as i64, out.height as i64);
     let r = edge_radius as i64;
     let lit: Vec<bool> = truth.iter().map(|t| t.is_lit()).collect();
@@ -210,11 +192,7 @@ pub fn pixel_matches(
                     }
                 }
             }
-            res.push(if rendered_lit {
-                PixelMatch::FalseLight { edge }
-            } else {
-                PixelMatch::FalseShadow { edge }
-            });
+            res.push(if rendered_lit { PixelMatch::FalseLight { edge } } else { PixelMatch::FalseShadow { edge } });
         }
     }
     res
@@ -301,21 +279,9 @@ pub(crate) fn mismatch_stats(
             }
         }
     }
-    s.rate = if s.pixels > 0 {
-        s.mismatched as f64 / s.pixels as f64
-    } else {
-        0.0
-    };
-    s.rate_off_edges = if s.off_edge_pixels > 0 {
-        s.off_edge_mismatched as f64 / s.off_edge_pixels as f64
-    } else {
-        0.0
-    };
-    s.rate_adequate = if s.adequate_pixels > 0 {
-        s.adequate_mismatched as f64 / s.adequate_pixels as f64
-    } else {
-        0.0
-    };
+    s.rate = if s.pixels > 0 { s.mismatched as f64 / s.pixels as f64 } else { 0.0 };
+    s.rate_off_edges = if s.off_edge_pixels > 0 { s.off_edge_mismatched as f64 / s.off_edge_pixels as f64 } else { 0.0 };
+    s.rate_adequate = if s.adequate_pixels > 0 { s.adequate_mismatched as f64 / s.adequate_pixels as f64 } else { 0.0 };
     s
 }
 
@@ -352,11 +318,7 @@ pub(crate) fn compute(
     t: Timings,
 ) -> RenderMetrics {
     let (coverage, split_pixels) = coverage_stats(req, out);
-    let mut union: Vec<u32> = req
-        .maps
-        .iter()
-        .flat_map(|m| m.casters.iter().copied())
-        .collect();
+    let mut union: Vec<u32> = req.maps.iter().flat_map(|m| m.casters.iter().copied()).collect();
     union.sort_unstable();
     union.dedup();
     let per_map = req
@@ -385,25 +347,17 @@ pub(crate) fn compute(
         readback_ms: t.readback_ms,
         ground_truth_ms: t.ground_truth_ms,
         aliasing: aliasing_stats(req, out),
-        mismatch: out
-            .truth
-            .as_ref()
-            .map(|tr| {
-                mismatch_stats(out, tr, req.settings.edge_radius, |candidates| {
-                    // The truth was cast through this cached ground truth a moment ago.
-                    match req.scene.ground_truth() {
-                        Ok(gt) => resolved_mask(out, tr, req.maps, &req.settings, &gt, candidates),
-                        Err(_) => vec![false; candidates.len()],
-                    }
-                })
-            }),
+        mismatch: out.truth.as_ref().map(|tr| {
+            mismatch_stats(out, tr, req.settings.edge_radius, |candidates| {
+                // The truth was cast through this cached ground truth a moment ago.
+                match req.scene.ground_truth() {
+                    Ok(gt) => resolved_mask(out, tr, req.maps, &req.settings, &gt, candidates),
+                    Err(_) => vec![false; candidates.len()],
+                }
+            })
+        }),
         coverage,
-        casters: CasterStats {
-            per_map,
-            draw_calls: draw_calls.to_vec(),
-            drawn: union.len() as u32,
-            total: req.scene.objects.len() as u32,
-        },
+        casters: CasterStats { per_map, draw_calls: draw_calls.to_vec(), drawn: union.len() as u32, total: req.scene.objects.len() as u32 },
         split_pixels,
         map_utilisation: req.utilisation.to_vec(),
         utilisation_min: utilisation_min(req.utilisation),
@@ -429,23 +383,8 @@ mod tests {
     /// A w×h frame whose left half is truly lit and right half truly occluded, rendered all lit.
     fn frame(w: u32, h: u32) -> (RenderOutput, Vec<Visibility>) {
         let n = (w * h) as usize;
-        let truth: Vec<Visibility> = (0..n)
-            .map(|i| {
-                if (i as u32 % w) < w / 2 {
-                    Visibility::Lit
-                } else {
-                    Visibility::Occluded
-                }
-            })
-            .collect();
-        let cam = CameraSpec {
-            eye: DVec3::ZERO,
-            forward: DVec3::Z,
-            up: DVec3::Y,
-            fovy: 1.0,
-            near: 0.1,
-            far: 10.0,
-        };
+        let truth: Vec<Visibility> = (0..n).map(|i| if (i as u32 % w) < w / 2 { Visibility::Lit } else { Visibility::Occluded }).collect();
+        let cam = CameraSpec { eye: DVec3::ZERO, forward: DVec3::Z, up: DVec3::Y, fovy: 1.0, near: 0.1, far: 10.0 };
         let out = RenderOutput {
             width: w,
             height: h,
@@ -458,9 +397,7 @@ mod tests {
             truth: Some(truth.clone()),
             shadow_maps: Vec::new(),
             camera: cam,
-            light: LightSpec::Directional {
-                direction: DVec3::Z,
-            },
+            light: LightSpec::Directional { direction: DVec3::Z },
             metrics: RenderMetrics::default(),
         };
         (out, truth)

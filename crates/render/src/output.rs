@@ -24,13 +24,7 @@ pub fn aliasing_image(out: &RenderOutput) -> Image {
         })
         .collect();
     let receiver: Vec<bool> = out.world.iter().map(|w| w[3] == 1.0).collect();
-    aliasing_heatmap(
-        out.width,
-        out.height,
-        &e,
-        Some(&receiver),
-        &caption(&out.metrics),
-    )
+    aliasing_heatmap(out.width, out.height, &e, Some(&receiver), &caption(&out.metrics))
 }
 
 /// The scene name with the maps' mean utilisation, where known ("forest  util 43%").
@@ -44,26 +38,17 @@ pub fn caption(m: &RenderMetrics) -> String {
 /// The mismatch image, when the render has ground truth.
 pub fn mismatch_view(out: &RenderOutput) -> Option<Image> {
     let truth = out.truth.as_ref()?;
-    Some(mismatch_image(
-        &out.color,
-        &pixel_matches(out, truth, out.metrics.settings.edge_radius),
-    ))
+    Some(mismatch_image(&out.color, &pixel_matches(out, truth, out.metrics.settings.edge_radius)))
 }
 
 /// Depth views of the shadow maps that were read back.
 pub fn shadow_map_images(out: &RenderOutput) -> Vec<Image> {
-    out.shadow_maps
-        .iter()
-        .map(|m| depth_image(m.resolution, &m.depth))
-        .collect()
+    out.shadow_maps.iter().map(|m| depth_image(m.resolution, &m.depth)).collect()
 }
 
 /// `metrics` as a JSON object, with the top-level fields of `extra` (an object) merged in front
 /// (e.g. method, focusing µs).
-pub fn metrics_json(
-    metrics: &RenderMetrics,
-    extra: Option<&serde_json::Value>,
-) -> serde_json::Value {
+pub fn metrics_json(metrics: &RenderMetrics, extra: Option<&serde_json::Value>) -> serde_json::Value {
     let mut obj = serde_json::Map::new();
     if let Some(serde_json::Value::Object(e)) = extra {
         for (k, v) in e {
@@ -79,19 +64,12 @@ pub fn metrics_json(
 }
 
 fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> RenderError + '_ {
-    move |source| RenderError::Io {
-        path: path.to_path_buf(),
-        source,
-    }
+    move |source| RenderError::Io { path: path.to_path_buf(), source }
 }
 
 /// Writes `image.png`, `shadow_map_K.png`, `aliasing.png`, `mismatch.png` (with ground truth) and
 /// `metrics.json` into `dir` (created if needed). Returns the files written.
-pub fn write_outputs(
-    dir: &Path,
-    out: &RenderOutput,
-    extra: Option<&serde_json::Value>,
-) -> Result<Vec<PathBuf>, RenderError> {
+pub fn write_outputs(dir: &Path, out: &RenderOutput, extra: Option<&serde_json::Value>) -> Result<Vec<PathBuf>, RenderError> {
     std::fs::create_dir_all(dir).map_err(io_err(dir))?;
     let mut written = Vec::new();
     let mut save = |name: String, img: &Image| -> Result<(), RenderError> {
@@ -109,8 +87,8 @@ pub fn write_outputs(
         save("mismatch.png".into(), &m)?;
     }
     let p = dir.join("metrics.json");
-    let text = serde_json::to_string_pretty(&metrics_json(&out.metrics, extra))
-        .map_err(|e| RenderError::invalid("metrics", e.to_string()))?;
+    let text =
+        serde_json::to_string_pretty(&metrics_json(&out.metrics, extra)).map_err(|e| RenderError::invalid("metrics", e.to_string()))?;
     std::fs::write(&p, text + "\n").map_err(io_err(&p))?;
     written.push(p);
     Ok(written)

@@ -13,10 +13,7 @@ use crate::image::Image;
 use crate::metrics::{self, RenderMetrics};
 use crate::scene::{Scene, Vertex};
 use crate::timer::{PhaseTimer, MAIN_PHASE, SHADOW_PHASE};
-use crate::types::{
-    validate_maps, CameraSpec, DepthMode, DepthTest, LightSpec, Pcf, RenderSettings, ShadowMapSpec,
-    MAX_MAPS,
-};
+use crate::types::{validate_maps, CameraSpec, DepthMode, DepthTest, LightSpec, Pcf, RenderSettings, ShadowMapSpec, MAX_MAPS};
 
 /// One frame to render.
 #[derive(Clone, Debug)]
@@ -35,14 +32,7 @@ pub struct RenderRequest<'a> {
 impl<'a> RenderRequest<'a> {
     /// The scene's own camera and light with default settings.
     pub fn new(scene: &'a Scene, maps: &'a [ShadowMapSpec]) -> RenderRequest<'a> {
-        RenderRequest {
-            scene,
-            camera: scene.camera,
-            light: scene.light,
-            maps,
-            utilisation: &[],
-            settings: RenderSettings::default(),
-        }
+        RenderRequest { scene, camera: scene.camera, light: scene.light, maps, utilisation: &[], settings: RenderSettings::default() }
     }
 
     pub fn aspect(&self) -> f64 {
@@ -55,24 +45,10 @@ impl<'a> RenderRequest<'a> {
         self.light.validate()?;
         validate_maps(self.maps, self.scene.objects.len())?;
         if !self.utilisation.is_empty() && self.utilisation.len() != self.maps.len() {
-            return Err(RenderError::invalid(
-                "map utilisation",
-                format!(
-                    "{} values for {} maps",
-                    self.utilisation.len(),
-                    self.maps.len()
-                ),
-            ));
+            return Err(RenderError::invalid("map utilisation", format!("{} values for {} maps", self.utilisation.len(), self.maps.len())));
         }
-        if let Some(u) = self
-            .utilisation
-            .iter()
-            .find(|u| !(0.0..=1.0).contains(*u))
-        {
-            return Err(RenderError::invalid(
-                "map utilisation",
-                format!("{u} is not within [0, 1]"),
-            ));
+        if let Some(u) = self.utilisation.iter().find(|u| !(0.0..=1.0).contains(*u)) {
+            return Err(RenderError::invalid("map utilisation", format!("{u} is not within [0, 1]")));
         }
         Ok(())
     }
@@ -223,20 +199,13 @@ fn uniform_entry(binding: u32, dynamic: bool) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: dynamic,
-            min_binding_size: None,
-        },
+        ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: dynamic, min_binding_size: None },
         count: None,
     }
 }
 
 fn float_texture_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    texture_entry(
-        binding,
-        wgpu::TextureSampleType::Float { filterable: false },
-    )
+    texture_entry(binding, wgpu::TextureSampleType::Float { filterable: false })
 }
 
 fn uint_texture_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
@@ -247,20 +216,12 @@ fn texture_entry(binding: u32, sample_type: wgpu::TextureSampleType) -> wgpu::Bi
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::FRAGMENT,
-        ty: wgpu::BindingType::Texture {
-            sample_type,
-            view_dimension: wgpu::TextureViewDimension::D2,
-            multisampled: false,
-        },
+        ty: wgpu::BindingType::Texture { sample_type, view_dimension: wgpu::TextureViewDimension::D2, multisampled: false },
         count: None,
     }
 }
 
-fn comparison_sampler(
-    device: &wgpu::Device,
-    compare: wgpu::CompareFunction,
-    filter: wgpu::FilterMode,
-) -> wgpu::Sampler {
+fn comparison_sampler(device: &wgpu::Device, compare: wgpu::CompareFunction, filter: wgpu::FilterMode) -> wgpu::Sampler {
     device.create_sampler(&wgpu::SamplerDescriptor {
         label: Some("shadow comparison"),
         address_mode_u: wgpu::AddressMode::ClampToEdge,
@@ -278,11 +239,7 @@ fn comparison_sampler(
 }
 
 fn target(format: wgpu::TextureFormat) -> Option<wgpu::ColorTargetState> {
-    Some(wgpu::ColorTargetState {
-        format,
-        blend: None,
-        write_mask: wgpu::ColorWrites::ALL,
-    })
+    Some(wgpu::ColorTargetState { format, blend: None, write_mask: wgpu::ColorWrites::ALL })
 }
 
 fn fullscreen_pipeline(
@@ -301,12 +258,7 @@ fn fullscreen_pipeline(
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(label),
         layout: Some(&layout),
-        vertex: wgpu::VertexState {
-            module,
-            entry_point: Some("vs"),
-            compilation_options: Default::default(),
-            buffers: &[],
-        },
+        vertex: wgpu::VertexState { module, entry_point: Some("vs"), compilation_options: Default::default(), buffers: &[] },
         primitive: wgpu::PrimitiveState::default(),
         depth_stencil: None,
         multisample: wgpu::MultisampleState::default(),
@@ -322,16 +274,8 @@ fn fullscreen_pipeline(
 }
 
 const VERTEX_ATTRS: [wgpu::VertexAttribute; 2] = [
-    wgpu::VertexAttribute {
-        format: wgpu::VertexFormat::Float32x3,
-        offset: 0,
-        shader_location: 0,
-    },
-    wgpu::VertexAttribute {
-        format: wgpu::VertexFormat::Unorm8x4,
-        offset: 12,
-        shader_location: 1,
-    },
+    wgpu::VertexAttribute { format: wgpu::VertexFormat::Float32x3, offset: 0, shader_location: 0 },
+    wgpu::VertexAttribute { format: wgpu::VertexFormat::Unorm8x4, offset: 12, shader_location: 1 },
 ];
 
 fn vertex_layout() -> wgpu::VertexBufferLayout<'static> {
@@ -372,26 +316,11 @@ fn linear_params(light: &LightSpec, scene: &Scene) -> ([f32; 4], f32) {
             }
             let span = (hi - lo).max(1e-30);
             let a = l / span;
-            (
-                [a.x as f32, a.y as f32, a.z as f32, (-lo / span) as f32],
-                1.0,
-            )
+            ([a.x as f32, a.y as f32, a.z as f32, (-lo / span) as f32], 1.0)
         }
         LightSpec::Point { position } | LightSpec::Spot { position, .. } => {
-            let far = corners
-                .iter()
-                .map(|c| (*c - position).length())
-                .fold(0.0, f64::max)
-                .max(1e-30);
-            (
-                [
-                    position.x as f32,
-                    position.y as f32,
-                    position.z as f32,
-                    (1.0 / far) as f32,
-                ],
-                2.0,
-            )
+            let far = corners.iter().map(|c| (*c - position).length()).fold(0.0, f64::max).max(1e-30);
+            ([position.x as f32, position.y as f32, position.z as f32, (1.0 / far) as f32], 2.0)
         }
     }
 }
@@ -417,11 +346,7 @@ fn tex2d(
 ) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
-        size: wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: layers,
-        },
+        size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: layers },
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
@@ -501,10 +426,8 @@ impl Renderer {
             source: wgpu::ShaderSource::Wgsl(include_str!("shaders/post.wgsl").into()),
         });
 
-        let shadow_bgl = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("shadow"),
-            entries: &[uniform_entry(0, true)],
-        });
+        let shadow_bgl =
+            device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("shadow"), entries: &[uniform_entry(0, true)] });
         let shadow_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("shadow"),
             bind_group_layouts: &[Some(&shadow_bgl)],
@@ -530,10 +453,7 @@ impl Renderer {
             ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
             count: None,
         });
-        let scene_bgl = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("scene"),
-            entries: &scene_entries,
-        });
+        let scene_bgl = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("scene"), entries: &scene_entries });
         let scene_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("scene"),
             bind_group_layouts: &[Some(&scene_bgl)],
@@ -561,12 +481,7 @@ impl Renderer {
                 module: &scene_module,
                 entry_point: Some("fs"),
                 compilation_options: Default::default(),
-                targets: &[
-                    target(WORLD_FMT),
-                    target(NORMAL_FMT),
-                    target(ALBEDO_FMT),
-                    target(AUX_FMT),
-                ],
+                targets: &[target(WORLD_FMT), target(NORMAL_FMT), target(ALBEDO_FMT), target(AUX_FMT)],
             }),
             multiview_mask: None,
             cache: None,
@@ -574,14 +489,9 @@ impl Renderer {
 
         let blur_bgl = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("blur"),
-            entries: &[
-                uniform_entry(0, true),
-                uint_texture_entry(1),
-                float_texture_entry(2),
-            ],
+            entries: &[uniform_entry(0, true), uint_texture_entry(1), float_texture_entry(2)],
         });
-        let blur_pipeline =
-            fullscreen_pipeline(device, "blur", &post_module, &blur_bgl, "fs_blur", VIS_FMT);
+        let blur_pipeline = fullscreen_pipeline(device, "blur", &post_module, &blur_bgl, "fs_blur", VIS_FMT);
         let composite_bgl = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("composite"),
             entries: &[
@@ -593,25 +503,10 @@ impl Renderer {
                 float_texture_entry(5),
             ],
         });
-        let composite_pipeline = fullscreen_pipeline(
-            device,
-            "composite",
-            &post_module,
-            &composite_bgl,
-            "fs_composite",
-            COLOR_FMT,
-        );
+        let composite_pipeline = fullscreen_pipeline(device, "composite", &post_module, &composite_bgl, "fs_composite", COLOR_FMT);
         let samplers = [
-            comparison_sampler(
-                device,
-                wgpu::CompareFunction::LessEqual,
-                wgpu::FilterMode::Linear,
-            ),
-            comparison_sampler(
-                device,
-                wgpu::CompareFunction::LessEqual,
-                wgpu::FilterMode::Nearest,
-            ),
+            comparison_sampler(device, wgpu::CompareFunction::LessEqual, wgpu::FilterMode::Linear),
+            comparison_sampler(device, wgpu::CompareFunction::LessEqual, wgpu::FilterMode::Nearest),
         ];
         if let Some(e) = crate::gpu::block_on(scope.pop()) {
             return Err(RenderError::Gpu(format!("creating pipelines: {e}")));
@@ -652,11 +547,7 @@ impl Renderer {
                 wgpu::DepthBiasState::default()
             } else {
                 // NOTE: GL has no depth-bias clamp; 0 means "unclamped" on every backend.
-                wgpu::DepthBiasState {
-                    constant: key.constant,
-                    slope_scale: f32::from_bits(key.slope_bits),
-                    clamp: 0.0,
-                }
+                wgpu::DepthBiasState { constant: key.constant, slope_scale: f32::from_bits(key.slope_bits), clamp: 0.0 }
             };
             let compare = wgpu::CompareFunction::Less;
             let entry = match (key.linear, key.viz) {
@@ -666,8 +557,7 @@ impl Renderer {
                 (true, true) => Some("fs_linear_viz"),
             };
             let viz_targets = [target(VIZ_FMT)];
-            let targets: &[Option<wgpu::ColorTargetState>] =
-                if key.viz { &viz_targets } else { &[] };
+            let targets: &[Option<wgpu::ColorTargetState>] = if key.viz { &viz_targets } else { &[] };
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some("shadow"),
                 layout: Some(layout),
@@ -677,10 +567,7 @@ impl Renderer {
                     compilation_options: Default::default(),
                     buffers: &[Some(shadow_vertex_layout())],
                 },
-                primitive: wgpu::PrimitiveState {
-                    unclipped_depth: key.clamp,
-                    ..Default::default()
-                },
+                primitive: wgpu::PrimitiveState { unclipped_depth: key.clamp, ..Default::default() },
                 depth_stencil: Some(wgpu::DepthStencilState {
                     format: DEPTH_FMT,
                     depth_write_enabled: Some(true),
@@ -707,32 +594,20 @@ impl Renderer {
         let s = req.settings;
         let (w, h, res) = (s.width, s.height, s.shadow_resolution);
         let lim = &self.gpu.limits;
-        if w > lim.max_texture_dimension_2d
-            || h > lim.max_texture_dimension_2d
-            || res > lim.max_texture_dimension_2d
-        {
+        if w > lim.max_texture_dimension_2d || h > lim.max_texture_dimension_2d || res > lim.max_texture_dimension_2d {
             return Err(RenderError::Unsupported {
                 adapter: self.gpu.summary.name.clone(),
-                reason: format!(
-                    "textures are limited to {} texels per side",
-                    lim.max_texture_dimension_2d
-                ),
+                reason: format!("textures are limited to {} texels per side", lim.max_texture_dimension_2d),
             });
         }
         let layers = layer_count(req.maps.len());
         if layers > lim.max_texture_array_layers {
             return Err(RenderError::Unsupported {
                 adapter: self.gpu.summary.name.clone(),
-                reason: format!(
-                    "{layers} shadow layers, the adapter allows {}",
-                    lim.max_texture_array_layers
-                ),
+                reason: format!("{layers} shadow layers, the adapter allows {}", lim.max_texture_array_layers),
             });
         }
-        let scope = self
-            .gpu
-            .device
-            .push_error_scope(wgpu::ErrorFilter::Validation);
+        let scope = self.gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let result = self.render_inner(req, layers);
         let scoped = crate::gpu::block_on(scope.pop());
         self.gpu.take_errors()?;
@@ -742,42 +617,20 @@ impl Renderer {
         result
     }
 
-    fn render_inner(
-        &mut self,
-        req: &RenderRequest,
-        layers: u32,
-    ) -> Result<RenderOutput, RenderError> {
+    fn render_inner(&mut self, req: &RenderRequest, layers: u32) -> Result<RenderOutput, RenderError> {
         let s = req.settings;
         let scene = req.scene;
         let (w, h, res) = (s.width, s.height, s.shadow_resolution);
         let clamp = s.depth_clamp && self.gpu.summary.depth_clamp;
         let (linear, lin_const, lin_slope, bias_c, bias_s, receiver_plane) = match s.depth {
-            DepthMode::Projective {
-                constant,
-                slope_scale,
-                receiver_plane,
-            } => (false, 0.0, 0.0, constant, slope_scale, receiver_plane),
-            DepthMode::Linear {
-                constant,
-                slope_scale,
-            } => (true, constant, slope_scale, 0, 0.0, false),
+            DepthMode::Projective { constant, slope_scale, receiver_plane } => (false, 0.0, 0.0, constant, slope_scale, receiver_plane),
+            DepthMode::Linear { constant, slope_scale } => (true, constant, slope_scale, 0, 0.0, false),
         };
         let (lin_a, lin_mode) = linear_params(&req.light, scene);
-        let lin_b = [
-            if linear { lin_mode } else { 0.0 },
-            lin_const,
-            lin_slope,
-            0.0,
-        ];
+        let lin_b = [if linear { lin_mode } else { 0.0 }, lin_const, lin_slope, 0.0];
 
         // The shadow pipeline first: building it borrows self mutably.
-        let key = ShadowPipelineKey {
-            viz: s.save_shadow_maps,
-            linear,
-            constant: bias_c,
-            slope_bits: bias_s.to_bits(),
-            clamp,
-        };
+        let key = ShadowPipelineKey { viz: s.save_shadow_maps, linear, constant: bias_c, slope_bits: bias_s.to_bits(), clamp };
         self.shadow_pipeline(key);
         let device = &self.gpu.device;
         let queue = &self.gpu.queue;
@@ -789,9 +642,7 @@ impl Renderer {
         }
         for o in &scene.objects {
             if o.receiver {
-                for &i in
-                    &scene.indices[o.first_index as usize..(o.first_index + o.index_count) as usize]
-                {
+                for &i in &scene.indices[o.first_index as usize..(o.first_index + o.index_count) as usize] {
                     verts[i as usize].color[3] = 255;
                 }
             }
@@ -818,31 +669,14 @@ impl Renderer {
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
         );
         let viz_tex = s.save_shadow_maps.then(|| {
-            tex2d(
-                device,
-                "shadow viz",
-                res,
-                res,
-                layers,
-                VIZ_FMT,
-                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-            )
+            tex2d(device, "shadow viz", res, res, layers, VIZ_FMT, wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC)
         });
         let mut shadow_uniforms = vec![0u8; (UNIFORM_STRIDE as usize) * req.maps.len().max(1)];
         for (i, m) in req.maps.iter().enumerate() {
-            let flip = if m.depth_test == DepthTest::Greater {
-                1.0
-            } else {
-                0.0
-            };
-            let u = ShadowUniform {
-                world_to_clip: mat(m.world_to_clip),
-                lin_a,
-                lin_b: [lin_b[0], lin_b[1], lin_b[2], flip],
-            };
+            let flip = if m.depth_test == DepthTest::Greater { 1.0 } else { 0.0 };
+            let u = ShadowUniform { world_to_clip: mat(m.world_to_clip), lin_a, lin_b: [lin_b[0], lin_b[1], lin_b[2], flip] };
             let off = i * UNIFORM_STRIDE as usize;
-            shadow_uniforms[off..off + std::mem::size_of::<ShadowUniform>()]
-                .copy_from_slice(bytemuck::bytes_of(&u));
+            shadow_uniforms[off..off + std::mem::size_of::<ShadowUniform>()].copy_from_slice(bytemuck::bytes_of(&u));
         }
         let shadow_ubuf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("shadow uniforms"),
@@ -861,34 +695,17 @@ impl Renderer {
                 }),
             }],
         });
-        let ranges: Vec<Vec<std::ops::Range<u32>>> = req
-            .maps
-            .iter()
-            .map(|m| caster_ranges(scene, &m.casters))
-            .collect();
+        let ranges: Vec<Vec<std::ops::Range<u32>>> = req.maps.iter().map(|m| caster_ranges(scene, &m.casters)).collect();
 
         // Frame uniform.
         let aspect = req.aspect();
-        let view_proj =
-            (req.camera.projection_matrix(aspect) * req.camera.view_matrix()?).as_mat4();
+        let view_proj = (req.camera.projection_matrix(aspect) * req.camera.view_matrix()?).as_mat4();
         let (fwd, _, _) = req.camera.basis()?;
-        let mut maps = [MapInfo {
-            world_to_clip: [0.0; 16],
-            split: [0.0; 4],
-        }; MAX_MAPS];
+        let mut maps = [MapInfo { world_to_clip: [0.0; 16], split: [0.0; 4] }; MAX_MAPS];
         for (i, m) in req.maps.iter().enumerate() {
             maps[i] = MapInfo {
                 world_to_clip: mat(m.world_to_clip),
-                split: [
-                    m.split[0],
-                    m.split[1],
-                    if m.depth_test == DepthTest::Greater {
-                        1.0
-                    } else {
-                        0.0
-                    },
-                    0.0,
-                ],
+                split: [m.split[0], m.split[1], if m.depth_test == DepthTest::Greater { 1.0 } else { 0.0 }, 0.0],
             };
         }
         let (pcf_mode, pcf_radius) = match s.pcf {
@@ -898,28 +715,13 @@ impl Renderer {
         };
         let frame = FrameUniform {
             view_proj: mat(view_proj),
-            eye: [
-                req.camera.eye.x as f32,
-                req.camera.eye.y as f32,
-                req.camera.eye.z as f32,
-                1.0,
-            ],
+            eye: [req.camera.eye.x as f32, req.camera.eye.y as f32, req.camera.eye.z as f32, 1.0],
             forward: [fwd.x as f32, fwd.y as f32, fwd.z as f32, 0.0],
-            cam: [
-                req.camera.near as f32,
-                req.camera.far as f32,
-                w as f32,
-                h as f32,
-            ],
+            cam: [req.camera.near as f32, req.camera.far as f32, w as f32, h as f32],
             lin_a,
             lin_b,
             params: [req.maps.len() as f32, res as f32, pcf_mode, pcf_radius],
-            params2: [
-                s.blend_band,
-                if receiver_plane { 1.0 } else { 0.0 },
-                RECEIVER_PLANE_CONSTANT,
-                RECEIVER_PLANE_MAX_TAN,
-            ],
+            params2: [s.blend_band, if receiver_plane { 1.0 } else { 0.0 }, RECEIVER_PLANE_CONSTANT, RECEIVER_PLANE_MAX_TAN],
             maps,
         };
         let frame_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -929,76 +731,39 @@ impl Renderer {
         });
 
         // Screen targets.
-        let rt = wgpu::TextureUsages::RENDER_ATTACHMENT
-            | wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::COPY_SRC;
+        let rt = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC;
         let t = Targets {
             world: tex2d(device, "world", w, h, 1, WORLD_FMT, rt),
             normal: tex2d(device, "normal", w, h, 1, NORMAL_FMT, rt),
             albedo: tex2d(device, "albedo", w, h, 1, ALBEDO_FMT, rt),
             aux: tex2d(device, "aux", w, h, 1, AUX_FMT, rt),
-            depth: tex2d(
-                device,
-                "depth",
-                w,
-                h,
-                1,
-                DEPTH_FMT,
-                wgpu::TextureUsages::RENDER_ATTACHMENT,
-            ),
-            vis: [
-                tex2d(device, "vis a", w, h, 1, VIS_FMT, rt),
-                tex2d(device, "vis b", w, h, 1, VIS_FMT, rt),
-            ],
+            depth: tex2d(device, "depth", w, h, 1, DEPTH_FMT, wgpu::TextureUsages::RENDER_ATTACHMENT),
+            vis: [tex2d(device, "vis a", w, h, 1, VIS_FMT, rt), tex2d(device, "vis b", w, h, 1, VIS_FMT, rt)],
             color: tex2d(device, "color", w, h, 1, COLOR_FMT, rt),
         };
-        let shadow_array_view = shadow_tex.create_view(&wgpu::TextureViewDescriptor {
-            dimension: Some(wgpu::TextureViewDimension::D2Array),
-            ..Default::default()
-        });
+        let shadow_array_view = shadow_tex
+            .create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() });
         let mut scene_entries = vec![
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: frame_buf.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: wgpu::BindingResource::TextureView(&shadow_array_view),
-            },
+            wgpu::BindGroupEntry { binding: 0, resource: frame_buf.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&shadow_array_view) },
         ];
         // The receiver-plane bias compares each texel with its own reference (bilinear weights in
         // the shader), through the nearest sampler.
-        let sampler = if s.pcf == Pcf::Off || receiver_plane {
-            &self.samplers[1]
-        } else {
-            &self.samplers[0]
-        };
-        scene_entries.push(wgpu::BindGroupEntry {
-            binding: 2,
-            resource: wgpu::BindingResource::Sampler(sampler),
-        });
-        let scene_bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("scene"),
-            layout: &self.scene_bgl,
-            entries: &scene_entries,
-        });
+        let sampler = if s.pcf == Pcf::Off || receiver_plane { &self.samplers[1] } else { &self.samplers[0] };
+        scene_entries.push(wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(sampler) });
+        let scene_bg =
+            device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("scene"), layout: &self.scene_bgl, entries: &scene_entries });
 
         // Blur: uniforms for (horizontal from aux), (horizontal), (vertical).
         let focal_px = 0.5 * h as f64 / (0.5 * req.camera.fovy).tan();
-        let blur = s
-            .blur
-            .filter(|b| b.iterations > 0 && b.world_radius > 0.0 && b.max_radius_px > 0.0);
+        let blur = s.blur.filter(|b| b.iterations > 0 && b.world_radius > 0.0 && b.max_radius_px > 0.0);
         let mut blur_bytes = vec![0u8; 3 * UNIFORM_STRIDE as usize];
         if let Some(b) = blur {
             let variants = [([1.0, 0.0], 1.0), ([1.0, 0.0], 0.0), ([0.0, 1.0], 0.0)];
             for (k, (dir, from_aux)) in variants.iter().enumerate() {
-                let u = BlurUniform {
-                    a: [dir[0], dir[1], focal_px as f32, b.world_radius],
-                    b: [b.max_radius_px, *from_aux, 0.0, 0.0],
-                };
+                let u = BlurUniform { a: [dir[0], dir[1], focal_px as f32, b.world_radius], b: [b.max_radius_px, *from_aux, 0.0, 0.0] };
                 let off = k * UNIFORM_STRIDE as usize;
-                blur_bytes[off..off + std::mem::size_of::<BlurUniform>()]
-                    .copy_from_slice(bytemuck::bytes_of(&u));
+                blur_bytes[off..off + std::mem::size_of::<BlurUniform>()].copy_from_slice(bytemuck::bytes_of(&u));
             }
         }
         let blur_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -1021,25 +786,15 @@ impl Renderer {
                             size: wgpu::BufferSize::new(std::mem::size_of::<BlurUniform>() as u64),
                         }),
                     },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: wgpu::BindingResource::TextureView(&aux_view),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 2,
-                        resource: wgpu::BindingResource::TextureView(src),
-                    },
+                    wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&aux_view) },
+                    wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(src) },
                 ],
             })
         };
         // Reading vis b writing vis a, and the reverse.
         let blur_bg_read = [blur_bg(&vis_views[0]), blur_bg(&vis_views[1])];
 
-        let spot = req
-            .light
-            .spot_matrix()
-            .map(|m| m.as_mat4())
-            .unwrap_or(Mat4::IDENTITY);
+        let spot = req.light.spot_matrix().map(|m| m.as_mat4()).unwrap_or(Mat4::IDENTITY);
         let (lvec, lkind) = match req.light {
             LightSpec::Directional { direction } => (direction, 0.0),
             LightSpec::Point { position } => (position, 1.0),
@@ -1063,46 +818,20 @@ impl Renderer {
             label: Some("composite"),
             layout: &self.composite_bgl,
             entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: comp_buf.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(&world_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::TextureView(&normal_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: wgpu::BindingResource::TextureView(&albedo_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: wgpu::BindingResource::TextureView(&aux_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 5,
-                    resource: wgpu::BindingResource::TextureView(&vis_views[1]),
-                },
+                wgpu::BindGroupEntry { binding: 0, resource: comp_buf.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&world_view) },
+                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&normal_view) },
+                wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&albedo_view) },
+                wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(&aux_view) },
+                wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::TextureView(&vis_views[1]) },
             ],
         });
         let color_view = view(&t.color);
         let depth_view = view(&t.depth);
 
-        let shadow_layer_views: Vec<wgpu::TextureView> = (0..req.maps.len() as u32)
-            .map(|i| layer_view(&shadow_tex, i))
-            .collect();
-        let viz_layer_views: Vec<wgpu::TextureView> = viz_tex
-            .as_ref()
-            .map(|v| {
-                (0..req.maps.len() as u32)
-                    .map(|i| layer_view(v, i))
-                    .collect()
-            })
-            .unwrap_or_default();
+        let shadow_layer_views: Vec<wgpu::TextureView> = (0..req.maps.len() as u32).map(|i| layer_view(&shadow_tex, i)).collect();
+        let viz_layer_views: Vec<wgpu::TextureView> =
+            viz_tex.as_ref().map(|v| (0..req.maps.len() as u32).map(|i| layer_view(v, i)).collect()).unwrap_or_default();
 
         let mut best_shadow = f64::INFINITY;
         let mut best_main = f64::INFINITY;
@@ -1111,44 +840,30 @@ impl Renderer {
         for _ in 0..s.timing_repeats {
             // Shadow pass.
             let t0 = Instant::now();
-            let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("shadow"),
-            });
+            let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("shadow") });
             for i in 0..req.maps.len() {
                 let clear = 1.0;
                 let pipeline = &self.shadow_pipelines[&key];
-                let color_att = viz_layer_views
-                    .get(i)
-                    .map(|v| wgpu::RenderPassColorAttachment {
-                        view: v,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            // All-ones bits: a NaN, read back as "no caster here".
-                            load: wgpu::LoadOp::Clear(wgpu::Color {
-                                r: u32::MAX as f64,
-                                g: 0.0,
-                                b: 0.0,
-                                a: 0.0,
-                            }),
-                            store: wgpu::StoreOp::Store,
-                        },
-                    });
+                let color_att = viz_layer_views.get(i).map(|v| wgpu::RenderPassColorAttachment {
+                    view: v,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        // All-ones bits: a NaN, read back as "no caster here".
+                        load: wgpu::LoadOp::Clear(wgpu::Color { r: u32::MAX as f64, g: 0.0, b: 0.0, a: 0.0 }),
+                        store: wgpu::StoreOp::Store,
+                    },
+                });
                 let color_atts = [color_att];
                 let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("shadow layer"),
                     color_attachments: if s.save_shadow_maps { &color_atts } else { &[] },
                     depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                         view: &shadow_layer_views[i],
-                        depth_ops: Some(wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(clear),
-                            store: wgpu::StoreOp::Store,
-                        }),
+                        depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(clear), store: wgpu::StoreOp::Store }),
                         stencil_ops: None,
                     }),
-                    timestamp_writes: timer
-                        .as_ref()
-                        .and_then(|t| t.writes(SHADOW_PHASE, i, req.maps.len())),
+                    timestamp_writes: timer.as_ref().and_then(|t| t.writes(SHADOW_PHASE, i, req.maps.len())),
                     occlusion_query_set: None,
                     multiview_mask: None,
                 });
@@ -1166,30 +881,17 @@ impl Renderer {
 
             // G-buffer, blur, composite.
             let t1 = Instant::now();
-            let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("main"),
-            });
+            let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("main") });
             {
-                fn clear_att(
-                    v: &wgpu::TextureView,
-                    c: wgpu::Color,
-                ) -> Option<wgpu::RenderPassColorAttachment<'_>> {
+                fn clear_att(v: &wgpu::TextureView, c: wgpu::Color) -> Option<wgpu::RenderPassColorAttachment<'_>> {
                     Some(wgpu::RenderPassColorAttachment {
                         view: v,
                         depth_slice: None,
                         resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(c),
-                            store: wgpu::StoreOp::Store,
-                        },
+                        ops: wgpu::Operations { load: wgpu::LoadOp::Clear(c), store: wgpu::StoreOp::Store },
                     })
                 }
-                let zero = wgpu::Color {
-                    r: 0.0,
-                    g: 0.0,
-                    b: 0.0,
-                    a: 0.0,
-                };
+                let zero = wgpu::Color { r: 0.0, g: 0.0, b: 0.0, a: 0.0 };
                 let atts = [
                     clear_att(&world_view, zero),
                     clear_att(&normal_view, zero),
@@ -1201,10 +903,7 @@ impl Renderer {
                     color_attachments: &atts,
                     depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                         view: &depth_view,
-                        depth_ops: Some(wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(0.0),
-                            store: wgpu::StoreOp::Store,
-                        }),
+                        depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0.0), store: wgpu::StoreOp::Store }),
                         stencil_ops: None,
                     }),
                     timestamp_writes: timer.as_ref().and_then(|t| t.writes(MAIN_PHASE, 0, 2)),
@@ -1221,18 +920,14 @@ impl Renderer {
                 for it in 0..b.iterations {
                     // Horizontal: (aux or b) → a; vertical: a → b.
                     let h_off = if it == 0 { 0 } else { UNIFORM_STRIDE as u32 };
-                    for (dst, bg, off) in [
-                        (&vis_views[0], &blur_bg_read[1], h_off),
-                        (&vis_views[1], &blur_bg_read[0], 2 * UNIFORM_STRIDE as u32),
-                    ] {
+                    for (dst, bg, off) in
+                        [(&vis_views[0], &blur_bg_read[1], h_off), (&vis_views[1], &blur_bg_read[0], 2 * UNIFORM_STRIDE as u32)]
+                    {
                         let att = [Some(wgpu::RenderPassColorAttachment {
                             view: dst,
                             depth_slice: None,
                             resolve_target: None,
-                            ops: wgpu::Operations {
-                                load: wgpu::LoadOp::Clear(wgpu::Color::WHITE),
-                                store: wgpu::StoreOp::Store,
-                            },
+                            ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::WHITE), store: wgpu::StoreOp::Store },
                         })];
                         let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                             label: Some("blur"),
@@ -1253,10 +948,7 @@ impl Renderer {
                     view: &color_view,
                     depth_slice: None,
                     resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                        store: wgpu::StoreOp::Store,
-                    },
+                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: wgpu::StoreOp::Store },
                 })];
                 let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("composite"),
@@ -1286,18 +978,14 @@ impl Renderer {
         // Read-back.
         let t2 = Instant::now();
         let mut rb = Readback::default();
-        let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("read-back"),
-        });
+        let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("read-back") });
         let i_world = rb.add(device, &mut enc, &t.world, 0, w, h, 16);
         let i_normal = rb.add(device, &mut enc, &t.normal, 0, w, h, 8);
         let i_aux = rb.add(device, &mut enc, &t.aux, 0, w, h, 16);
         let i_vis = blur.map(|_| rb.add(device, &mut enc, &t.vis[1], 0, w, h, 2));
         let i_color = rb.add(device, &mut enc, &t.color, 0, w, h, 4);
         let i_maps: Vec<usize> = match &viz_tex {
-            Some(v) => (0..req.maps.len() as u32)
-                .map(|l| rb.add(device, &mut enc, v, l, res, res, 4))
-                .collect(),
+            Some(v) => (0..req.maps.len() as u32).map(|l| rb.add(device, &mut enc, v, l, res, res, 4)).collect(),
             None => Vec::new(),
         };
         queue.submit([enc.finish()]);
@@ -1314,26 +1002,12 @@ impl Renderer {
         let mut aliasing = Vec::with_capacity(n);
         let mut split = Vec::with_capacity(n);
         let mut shadow = Vec::with_capacity(n);
-        let vis_f: Option<Vec<f32>> = i_vis.map(|i| {
-            bytemuck::pod_collect_to_vec::<u8, u16>(&data[i])
-                .into_iter()
-                .map(half_to_f32)
-                .collect()
-        });
+        let vis_f: Option<Vec<f32>> =
+            i_vis.map(|i| bytemuck::pod_collect_to_vec::<u8, u16>(&data[i]).into_iter().map(half_to_f32).collect());
         for p in 0..n {
-            let wv = [
-                world_f[4 * p],
-                world_f[4 * p + 1],
-                world_f[4 * p + 2],
-                world_f[4 * p + 3],
-            ];
+            let wv = [world_f[4 * p], world_f[4 * p + 1], world_f[4 * p + 2], world_f[4 * p + 3]];
             world.push(wv);
-            normal.push([
-                half_to_f32(normal_h[4 * p]),
-                half_to_f32(normal_h[4 * p + 1]),
-                half_to_f32(normal_h[4 * p + 2]),
-                0.0,
-            ]);
+            normal.push([half_to_f32(normal_h[4 * p]), half_to_f32(normal_h[4 * p + 1]), half_to_f32(normal_h[4 * p + 2]), 0.0]);
             let bg = wv[3] == 0.0;
             aliasing.push(if bg { f32::NAN } else { aux_f[4 * p] });
             split.push(if bg { -1 } else { aux_f[4 * p + 3] as i32 });
@@ -1342,11 +1016,7 @@ impl Renderer {
                 _ => aux_f[4 * p + 2],
             });
         }
-        let color = Image {
-            width: w,
-            height: h,
-            rgba: data[i_color].clone(),
-        };
+        let color = Image { width: w, height: h, rgba: data[i_color].clone() };
         let shadow_maps: Vec<DepthMap> = i_maps
             .iter()
             .enumerate()
@@ -1421,8 +1091,7 @@ impl Readback {
         bpp: u32,
     ) -> usize {
         let row = w * bpp;
-        let padded =
-            row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let padded = row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
         let buf = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("read-back"),
             size: padded as u64 * h as u64,
@@ -1433,39 +1102,21 @@ impl Readback {
             wgpu::TexelCopyTextureInfo {
                 texture: tex,
                 mip_level: 0,
-                origin: wgpu::Origin3d {
-                    x: 0,
-                    y: 0,
-                    z: layer,
-                },
+                origin: wgpu::Origin3d { x: 0, y: 0, z: layer },
                 aspect: wgpu::TextureAspect::All,
             },
             wgpu::TexelCopyBufferInfo {
                 buffer: &buf,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(padded),
-                    rows_per_image: Some(h),
-                },
+                layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(padded), rows_per_image: Some(h) },
             },
-            wgpu::Extent3d {
-                width: w,
-                height: h,
-                depth_or_array_layers: 1,
-            },
+            wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
         );
         self.items.push((buf, padded, row, h));
         self.items.len() - 1
     }
 
     /// Copies the first `size` bytes of `src` (a `COPY_SRC` buffer).
-    pub(crate) fn add_buffer(
-        &mut self,
-        device: &wgpu::Device,
-        enc: &mut wgpu::CommandEncoder,
-        src: &wgpu::Buffer,
-        size: u32,
-    ) -> usize {
+    pub(crate) fn add_buffer(&mut self, device: &wgpu::Device, enc: &mut wgpu::CommandEncoder, src: &wgpu::Buffer, size: u32) -> usize {
         let buf = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("read-back"),
             size: size as u64,
@@ -1490,25 +1141,15 @@ impl Readback {
             });
         }
         gpu.wait()?;
-        let st = status
-            .lock()
-            .map_err(|_| RenderError::Gpu("map status poisoned".into()))?;
+        let st = status.lock().map_err(|_| RenderError::Gpu("map status poisoned".into()))?;
         let mut out = Vec::with_capacity(self.items.len());
         for (k, (buf, padded, row, rows)) in self.items.iter().enumerate() {
             match &st[k] {
                 Some(Ok(())) => {}
-                Some(Err(e)) => {
-                    return Err(RenderError::Gpu(format!("mapping a read-back buffer: {e}")))
-                }
-                None => {
-                    return Err(RenderError::Gpu(
-                        "a read-back buffer was never mapped".into(),
-                    ))
-                }
+                Some(Err(e)) => return Err(RenderError::Gpu(format!("mapping a read-back buffer: {e}"))),
+                None => return Err(RenderError::Gpu("a read-back buffer was never mapped".into())),
             }
-            let mapped = buf
-                .get_mapped_range(..)
-                .map_err(|e| RenderError::Gpu(format!("read-back range: {e:?}")))?;
+            let mapped = buf.get_mapped_range(..).map_err(|e| RenderError::Gpu(format!("read-back range: {e:?}")))?;
             let mut v = Vec::with_capacity((*row * *rows) as usize);
             for r in 0..*rows as usize {
                 let start = r * *padded as usize;
@@ -1562,13 +1203,7 @@ mod tests {
         let all = caster_ranges(&scene, &scene.all_objects());
         assert_eq!(all, vec![0..scene.indices.len() as u32]);
         let r = caster_ranges(&scene, &[2, 0, 0, 1, 5]);
-        assert_eq!(
-            r,
-            vec![
-                o[0].first_index..o[2].first_index + o[2].index_count,
-                o[5].first_index..o[5].first_index + o[5].index_count
-            ]
-        );
+        assert_eq!(r, vec![o[0].first_index..o[2].first_index + o[2].index_count, o[5].first_index..o[5].first_index + o[5].index_count]);
         assert!(caster_ranges(&scene, &[]).is_empty());
     }
 
@@ -1576,10 +1211,7 @@ mod tests {
     fn layer_counts_avoid_gl_special_targets() {
         for n in 0..=MAX_MAPS {
             let l = layer_count(n);
-            assert!(
-                l >= 2 && l as usize >= n && !l.is_multiple_of(6),
-                "{n} maps → {l} layers"
-            );
+            assert!(l >= 2 && l as usize >= n && !l.is_multiple_of(6), "{n} maps → {l} layers");
         }
     }
 }

@@ -76,7 +76,6 @@ pub(crate) fn resolved_mask(
     gt: &GroundTruth,
     candidate: &[bool],
 ) -> Vec<bool> {
-    let res = settings.shadow_resolution as f64;
     let matrices: Vec<(DMat4, DMat4)> = maps
         .iter()
         .map(|m| {
@@ -84,22 +83,20 @@ pub(crate) fn resolved_mask(
             (c, c.inverse())
         })
         .collect();
+    let lookup = Lookup { out, truth, maps, matrices: &matrices, res: settings.shadow_resolution as f64, settings, gt };
     let n = truth.len();
     let mut mask = vec![false; n];
-    let threads = std::thread::available_parallelism()
-        .map(|t| t.get())
-        .unwrap_or(1)
-        .clamp(1, 64);
+    let threads = std::thread::available_parallelism().map(|t| t.get()).unwrap_or(1).clamp(1, 64);
     let chunk = n.div_ceil(threads).max(1);
     std::thread::scope(|s| {
         for (k, slot) in mask.chunks_mut(chunk).enumerate() {
             let start = k * chunk;
-            let matrices = &matrices;
+            let lookup = &lookup;
             s.spawn(move || {
                 for (j, m) in slot.iter_mut().enumerate() {
                     let i = start + j;
                     if candidate[i] {
-                        *m = pixel_resolved(out, truth, i, maps, matrices, res, settings, gt);
+                        *m = lookup.pixel_resolved(i);
                     }
                 }
             });
@@ -108,47 +105,60 @@ pub(crate) fn resolved_mask(
     mask
 }
 
-fn pixel_resolved(
-    out: &RenderOutput,
-    truth: &[Visibility],
-    i: usize,
-    maps: &[ShadowMapSpec],
-    matrices: &[(DMat4, DMat4)],
+/// What a pixel's shadow lookup reads: the frame, its truth, the maps with their clip matrices
+/// (and inverses), and the filters.
+struct Lookup<'a> {
+    out: &'a RenderOutput,
+    truth: &'a [Visibility],
+    maps: &'a [ShadowMapSpec],
+    matrices: &'a [(DMat4, DMat4)],
     res: f64,
-    settings: &RenderSettings,
-    gt: &GroundTruth,
-) -> bool {
-    let t = truth[i];
-    if !matches!(t, Visibility::Lit | Visibility::Occluded) || out.split[i] < 0 {
-        return false;
-    }
-    let map = out.split[i] as usize;
-    let w = out.world[i];
-    let p = DVec3::new(w[0] as f64, w[1] as f64, w[2] as f64);
-    let nn = out.normal[i];
-    let n = DVec3::new(nn[0] as f64, nn[1] as f64, nn[2] as f64).normalize_or_zero();
-    if n == DVec3::ZERO {
-        return false;
-    }
-    let agrees = |q: DVec3| gt.classify(q, n, &out.light) == t;
-    let map_agrees = |k: usize| {
-        let Some((m, inv)) = matrices.get(k) else {
-            return false;
-        };
-        let c = *m * p.extend(1.0);
-        if !(c.w > 0.0) {
+    settings: &'a RenderSettings,
+    gt: &'a GroundTruth,
+}
+
+impl Lookup<'_> {
+    fn pixel_resolved(&self, i: usize) -> bool {
+        let Lookup { out, truth, maps, matrices, res, settings, gt } = *self;
+        let t = truth[i];
+        if !matches!(t, Visibility::Lit | Visibility::Occluded) || out.split[i] < 0 {
             return false;
         }
-        let st = [res * (0.5 + 0.5 * c.x / c.w), res * (0.5 - 0.5 * c.y / c.w)];
-        footprint(st, settings.pcf, |centre| plane_point(inv, res, centre, p, n).is_some_and(agrees))
-    };
-    let blended = blended_with(out, maps, matrices, settings, map, p);
-    map_agrees(map) && blended.is_none_or(map_agrees) && blur_agrees(settings, p, n, agrees)
+        let map = out.split[i] as usize;
+        let w = out.world[i];
+        let p = DVec3::new(w[0] as f64, w[1] as f64, w[2] as f64);
+        let nn = out.normal[i];
+        let n = DVec3::new(nn[0] as f64, nn[1] as f64, nn[2] as f64).normalize_or_zero();
+        if n == DVec3::ZERO {
+            return false;
+        }
+        let agrees = |q: DVec3| gt.classify(q, n, &out.light) == t;
+        let map_agrees = |k: usize| {
+            let Some((m, inv)) = matrices.get(k) else {
+                return false;
+            };
+            let c = *m * p.extend(1.0);
+            if !(c.w > 0.0) {
+                return false;
+            }
+            let st = [res * (0.5 + 0.5 * c.x / c.w), res * (0.5 - 0.5 * c.y / c.w)];
+            footprint(st, settings.pcf, |centre| plane_point(inv, res, centre, p, n).is_some_and(agrees))
+        };
+        let blended = blended_with(out, maps, matrices, settings, map, p);
+        map_agrees(map) && blended.is_none_or(map_agrees) && blur_agrees(settings, p, n, agrees)
+    }
 }
 
 /// The map a pixel in the blend band at the far end of its split fades into: the next one that
 /// contains p, as in the main pass.
-fn blended_with(out: &RenderOutput, maps: &[ShadowMapSpec], matrices: &[(DMat4, DMat4)], settings: &RenderSettings, map: usize, p: DVec3) -> Option<usize> {
+fn blended_with(
+    out: &RenderOutput,
+    maps: &[ShadowMapSpec],
+    matrices: &[(DMat4, DMat4)],
+    settings: &RenderSettings,
+    map: usize,
+    p: DVec3,
+) -> Option<usize> {
     let band = settings.blend_band as f64;
     let [s0, s1] = maps.get(map)?.split.map(|v| v as f64);
     let len = (s1 - s0) * band;
@@ -214,10 +224,10 @@ mod tests {
     fn a_texel_ray_meets_the_receiver_plane_where_the_map_projects_it() {
         // An orthographic map looking down −y over x, z ∈ [−4, 4] (x right, −z up in the map) and
         // a perspective one from (0, 10, 0); a tilted receiver plane through (1, 2, −0.5).
-        let ortho = glam::DMat4::orthographic_rh(-4.0, 4.0, -4.0, 4.0, 0.0, 20.0)
-            * glam::DMat4::look_to_rh(DVec3::new(0.0, 10.0, 0.0), DVec3::NEG_Y, DVec3::NEG_Z);
-        let persp = glam::DMat4::perspective_rh(1.2, 1.0, 0.5, 30.0)
-            * glam::DMat4::look_to_rh(DVec3::new(0.0, 10.0, 0.0), DVec3::NEG_Y, DVec3::NEG_Z);
+        let ortho = glam::dcamera::rh::proj::directx::orthographic(-4.0, 4.0, -4.0, 4.0, 0.0, 20.0)
+            * glam::dcamera::rh::view::look_to_mat4(DVec3::new(0.0, 10.0, 0.0), DVec3::NEG_Y, DVec3::NEG_Z);
+        let persp = glam::dcamera::rh::proj::directx::perspective(1.2, 1.0, 0.5, 30.0)
+            * glam::dcamera::rh::view::look_to_mat4(DVec3::new(0.0, 10.0, 0.0), DVec3::NEG_Y, DVec3::NEG_Z);
         let (p, n) = (DVec3::new(1.0, 2.0, -0.5), DVec3::new(0.3, 1.0, -0.2).normalize());
         let res = 256.0;
         for m in [ortho, persp] {

@@ -69,24 +69,13 @@ impl Scene {
     ) -> Result<Scene, RenderError> {
         let name = name.into();
         if !indices.len().is_multiple_of(3) {
-            return Err(RenderError::invalid(
-                "scene indices",
-                "length is not a multiple of 3",
-            ));
+            return Err(RenderError::invalid("scene indices", "length is not a multiple of 3"));
         }
         if let Some(&bad) = indices.iter().find(|&&i| i as usize >= vertices.len()) {
-            return Err(RenderError::invalid(
-                "scene indices",
-                format!("index {bad} ≥ vertex count {}", vertices.len()),
-            ));
+            return Err(RenderError::invalid("scene indices", format!("index {bad} ≥ vertex count {}", vertices.len())));
         }
-        if vertices
-            .iter()
-            .any(|v| v.position.iter().any(|c| !c.is_finite()))
-        {
-            return Err(RenderError::NonFinite {
-                what: format!("a vertex position of scene '{name}'"),
-            });
+        if vertices.iter().any(|v| v.position.iter().any(|c| !c.is_finite())) {
+            return Err(RenderError::NonFinite { what: format!("a vertex position of scene '{name}'") });
         }
         camera.validate()?;
         light.validate()?;
@@ -97,10 +86,7 @@ impl Scene {
             if count % 3 != 0 || first % 3 != 0 || end > indices.len() as u64 {
                 return Err(RenderError::invalid(
                     format!("scene object {k}"),
-                    format!(
-                        "range {first}..{end} is not whole triangles within {} indices",
-                        indices.len()
-                    ),
+                    format!("range {first}..{end} is not whole triangles within {} indices", indices.len()),
                 ));
             }
             let mut aabb = Bounds::EMPTY;
@@ -108,29 +94,12 @@ impl Scene {
                 aabb.grow(Vec3::from(vertices[i as usize].position).as_dvec3());
             }
             bounds = bounds.union(&aabb);
-            objs.push(SceneObject {
-                first_index: first,
-                index_count: count,
-                aabb,
-                receiver,
-            });
+            objs.push(SceneObject { first_index: first, index_count: count, aabb, receiver });
         }
         if bounds.is_empty() {
-            return Err(RenderError::invalid(
-                "scene",
-                format!("'{name}' has no triangles"),
-            ));
+            return Err(RenderError::invalid("scene", format!("'{name}' has no triangles")));
         }
-        Ok(Scene {
-            name,
-            vertices,
-            indices,
-            objects: objs,
-            camera,
-            light,
-            bounds,
-            ground_truth: OnceLock::new(),
-        })
+        Ok(Scene { name, vertices, indices, objects: objs, camera, light, bounds, ground_truth: OnceLock::new() })
     }
 
     pub fn triangle_count(&self) -> usize {
@@ -153,9 +122,7 @@ impl Scene {
 
     /// Indices of receiver objects.
     pub fn receivers(&self) -> Vec<u32> {
-        (0..self.objects.len() as u32)
-            .filter(|&i| self.objects[i as usize].receiver)
-            .collect()
+        (0..self.objects.len() as u32).filter(|&i| self.objects[i as usize].receiver).collect()
     }
 }
 
@@ -184,10 +151,7 @@ impl MeshBuilder {
     }
 
     pub fn vertex(&mut self, p: DVec3, color: [u8; 3]) -> u32 {
-        self.vertices.push(Vertex {
-            position: p.as_vec3().to_array(),
-            color: [color[0], color[1], color[2], 255],
-        });
+        self.vertices.push(Vertex { position: p.as_vec3().to_array(), color: [color[0], color[1], color[2], 255] });
         self.vertices.len() as u32 - 1
     }
 
@@ -203,13 +167,7 @@ impl MeshBuilder {
 
     /// Axis-aligned box from `min` to `max`.
     pub fn cuboid(&mut self, min: DVec3, max: DVec3, color: [u8; 3]) {
-        self.oriented_box(
-            0.5 * (min + max),
-            0.5 * (max - min),
-            DVec3::X,
-            DVec3::Z,
-            color,
-        );
+        self.oriented_box(0.5 * (min + max), 0.5 * (max - min), DVec3::X, DVec3::Z, color);
     }
 
     /// Box with centre `c`, half extents `h` along (ax, up, ax × up)… expressed as local x = `ax`,
@@ -224,14 +182,7 @@ impl MeshBuilder {
             self.vertex(c + ax * sx + ay * sy + az * sz, color);
         }
         // Faces as corner-index quads; winding does not matter (no culling, normals from derivatives).
-        const FACES: [[u32; 4]; 6] = [
-            [0, 1, 3, 2],
-            [4, 6, 7, 5],
-            [0, 4, 5, 1],
-            [2, 3, 7, 6],
-            [0, 2, 6, 4],
-            [1, 5, 7, 3],
-        ];
+        const FACES: [[u32; 4]; 6] = [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]];
         for f in FACES {
             self.tri(base + f[0], base + f[1], base + f[2]);
             self.tri(base + f[0], base + f[2], base + f[3]);
@@ -264,10 +215,7 @@ impl MeshBuilder {
             }
         }
         // Caps: fans on the first and last rings where the radius is not already zero.
-        for (k, (r, _)) in [
-            (0usize, profile[0]),
-            (profile.len() - 1, profile[profile.len() - 1]),
-        ] {
+        for (k, (r, _)) in [(0usize, profile[0]), (profile.len() - 1, profile[profile.len() - 1])] {
             if r > 0.0 {
                 let ring = ring0 + k as u32 * n;
                 for s in 1..n - 1 {

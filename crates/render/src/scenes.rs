@@ -11,15 +11,8 @@ use crate::scene::{MeshBuilder, Scene};
 use crate::types::{CameraSpec, LightSpec};
 
 /// Names accepted by [`builtin_scene`].
-pub const BUILTIN_SCENES: [&str; 7] = [
-    "chessboard",
-    "huge-chessboard",
-    "forest",
-    "robot-war",
-    "duelling-frusta",
-    "inverted",
-    "thin-casters",
-];
+pub const BUILTIN_SCENES: [&str; 7] =
+    ["chessboard", "huge-chessboard", "forest", "robot-war", "duelling-frusta", "inverted", "thin-casters"];
 
 /// Builds a built-in scene by name.
 pub fn builtin_scene(name: &str) -> Result<Scene, RenderError> {
@@ -31,10 +24,7 @@ pub fn builtin_scene(name: &str) -> Result<Scene, RenderError> {
         "duelling-frusta" => duelling_frusta(),
         "inverted" => inverted(),
         "thin-casters" => thin_casters(),
-        _ => Err(RenderError::UnknownScene {
-            name: name.to_string(),
-            known: BUILTIN_SCENES.join(", "),
-        }),
+        _ => Err(RenderError::UnknownScene { name: name.to_string(), known: BUILTIN_SCENES.join(", ") }),
     }
 }
 
@@ -82,124 +72,41 @@ enum Piece {
 /// Lathe profile (radius, height) of a piece standing on a unit square, ≈ 0.7–1.35 tall.
 fn piece_profile(p: Piece) -> Vec<(f64, f64)> {
     match p {
-        Piece::Pawn => vec![
-            (0.30, 0.0),
-            (0.30, 0.08),
-            (0.20, 0.14),
-            (0.12, 0.34),
-            (0.20, 0.40),
-            (0.16, 0.56),
-            (0.09, 0.66),
-            (0.0, 0.70),
-        ],
-        Piece::Rook => vec![
-            (0.33, 0.0),
-            (0.33, 0.10),
-            (0.24, 0.16),
-            (0.20, 0.60),
-            (0.27, 0.66),
-            (0.27, 0.82),
-            (0.0, 0.82),
-        ],
-        Piece::Knight => vec![
-            (0.32, 0.0),
-            (0.32, 0.10),
-            (0.22, 0.18),
-            (0.18, 0.45),
-            (0.0, 0.45),
-        ],
-        Piece::Bishop => vec![
-            (0.32, 0.0),
-            (0.32, 0.09),
-            (0.22, 0.16),
-            (0.13, 0.58),
-            (0.22, 0.64),
-            (0.17, 0.86),
-            (0.06, 0.98),
-            (0.0, 1.02),
-        ],
-        Piece::Queen => vec![
-            (0.35, 0.0),
-            (0.35, 0.10),
-            (0.24, 0.18),
-            (0.14, 0.78),
-            (0.25, 0.86),
-            (0.20, 1.06),
-            (0.10, 1.12),
-            (0.0, 1.18),
-        ],
-        Piece::King => vec![
-            (0.36, 0.0),
-            (0.36, 0.10),
-            (0.25, 0.18),
-            (0.15, 0.84),
-            (0.26, 0.92),
-            (0.18, 1.10),
-            (0.05, 1.14),
-            (0.05, 1.34),
-            (0.0, 1.36),
-        ],
+        Piece::Pawn => vec![(0.30, 0.0), (0.30, 0.08), (0.20, 0.14), (0.12, 0.34), (0.20, 0.40), (0.16, 0.56), (0.09, 0.66), (0.0, 0.70)],
+        Piece::Rook => vec![(0.33, 0.0), (0.33, 0.10), (0.24, 0.16), (0.20, 0.60), (0.27, 0.66), (0.27, 0.82), (0.0, 0.82)],
+        Piece::Knight => vec![(0.32, 0.0), (0.32, 0.10), (0.22, 0.18), (0.18, 0.45), (0.0, 0.45)],
+        Piece::Bishop => vec![(0.32, 0.0), (0.32, 0.09), (0.22, 0.16), (0.13, 0.58), (0.22, 0.64), (0.17, 0.86), (0.06, 0.98), (0.0, 1.02)],
+        Piece::Queen => vec![(0.35, 0.0), (0.35, 0.10), (0.24, 0.18), (0.14, 0.78), (0.25, 0.86), (0.20, 1.06), (0.10, 1.12), (0.0, 1.18)],
+        Piece::King => {
+            vec![(0.36, 0.0), (0.36, 0.10), (0.25, 0.18), (0.15, 0.84), (0.26, 0.92), (0.18, 1.10), (0.05, 1.14), (0.05, 1.34), (0.0, 1.36)]
+        }
     }
 }
 
 /// One piece on the square whose centre is `c`, scaled by `s` (square side).
-fn add_piece(
-    mb: &mut MeshBuilder,
-    piece: Piece,
-    c: DVec3,
-    s: f64,
-    color: [u8; 3],
-    facing: f64,
-    segments: u32,
-) {
+fn add_piece(mb: &mut MeshBuilder, piece: Piece, c: DVec3, s: f64, color: [u8; 3], facing: f64, segments: u32) {
     mb.begin(false);
-    let prof: Vec<(f64, f64)> = piece_profile(piece)
-        .iter()
-        .map(|&(r, h)| (r * s, h * s))
-        .collect();
+    let prof: Vec<(f64, f64)> = piece_profile(piece).iter().map(|&(r, h)| (r * s, h * s)).collect();
     mb.lathe(c, &prof, segments, color);
     if let Piece::Knight = piece {
         // Head: a tilted-forward block and a muzzle on top of the lathe base.
         let ax = DVec3::new(1.0, 0.0, 0.0);
         let az = DVec3::new(0.0, 0.0, 1.0);
-        mb.oriented_box(
-            c + DVec3::new(0.0, 0.62 * s, 0.0),
-            DVec3::new(0.13, 0.2, 0.2) * s,
-            ax,
-            az,
-            color,
-        );
-        mb.oriented_box(
-            c + DVec3::new(0.0, 0.74 * s, facing * 0.2 * s),
-            DVec3::new(0.11, 0.09, 0.18) * s,
-            ax,
-            az,
-            color,
-        );
+        mb.oriented_box(c + DVec3::new(0.0, 0.62 * s, 0.0), DVec3::new(0.13, 0.2, 0.2) * s, ax, az, color);
+        mb.oriented_box(c + DVec3::new(0.0, 0.74 * s, facing * 0.2 * s), DVec3::new(0.11, 0.09, 0.18) * s, ax, az, color);
     }
     mb.end();
 }
 
 /// A chess set: board slab with squares on top (one object) and 32 pieces; board centred at the
 /// origin, top face at y = 0.
-fn add_chess_set(
-    mb: &mut MeshBuilder,
-    square: f64,
-    piece_scale: f64,
-    slab: f64,
-    segments: u32,
-    scatter: Option<u64>,
-) {
+fn add_chess_set(mb: &mut MeshBuilder, square: f64, piece_scale: f64, slab: f64, segments: u32, scatter: Option<u64>) {
     mb.begin(true);
     let half = 4.0 * square;
     for j in 0..8 {
         for i in 0..8 {
             let (x0, z0) = (-half + i as f64 * square, -half + j as f64 * square);
-            let col = if (i + j) % 2 == 0 {
-                DARK_SQUARE
-            } else {
-                LIGHT_SQUARE
-            };
+            let col = if (i + j) % 2 == 0 { DARK_SQUARE } else { LIGHT_SQUARE };
             mb.quad(
                 [
                     DVec3::new(x0, 0.0, z0),
@@ -214,51 +121,11 @@ fn add_chess_set(
     // Slab sides and bottom (slightly inset top avoided: sides start at the top edge).
     let rim = [120, 84, 60];
     let (a, b) = (DVec3::new(-half, -slab, -half), DVec3::new(half, 0.0, half));
-    mb.quad(
-        [
-            DVec3::new(a.x, a.y, a.z),
-            DVec3::new(b.x, a.y, a.z),
-            DVec3::new(b.x, b.y, a.z),
-            DVec3::new(a.x, b.y, a.z),
-        ],
-        rim,
-    );
-    mb.quad(
-        [
-            DVec3::new(a.x, a.y, b.z),
-            DVec3::new(b.x, a.y, b.z),
-            DVec3::new(b.x, b.y, b.z),
-            DVec3::new(a.x, b.y, b.z),
-        ],
-        rim,
-    );
-    mb.quad(
-        [
-            DVec3::new(a.x, a.y, a.z),
-            DVec3::new(a.x, a.y, b.z),
-            DVec3::new(a.x, b.y, b.z),
-            DVec3::new(a.x, b.y, a.z),
-        ],
-        rim,
-    );
-    mb.quad(
-        [
-            DVec3::new(b.x, a.y, a.z),
-            DVec3::new(b.x, a.y, b.z),
-            DVec3::new(b.x, b.y, b.z),
-            DVec3::new(b.x, b.y, a.z),
-        ],
-        rim,
-    );
-    mb.quad(
-        [
-            DVec3::new(a.x, a.y, a.z),
-            DVec3::new(b.x, a.y, a.z),
-            DVec3::new(b.x, a.y, b.z),
-            DVec3::new(a.x, a.y, b.z),
-        ],
-        rim,
-    );
+    mb.quad([DVec3::new(a.x, a.y, a.z), DVec3::new(b.x, a.y, a.z), DVec3::new(b.x, b.y, a.z), DVec3::new(a.x, b.y, a.z)], rim);
+    mb.quad([DVec3::new(a.x, a.y, b.z), DVec3::new(b.x, a.y, b.z), DVec3::new(b.x, b.y, b.z), DVec3::new(a.x, b.y, b.z)], rim);
+    mb.quad([DVec3::new(a.x, a.y, a.z), DVec3::new(a.x, a.y, b.z), DVec3::new(a.x, b.y, b.z), DVec3::new(a.x, b.y, a.z)], rim);
+    mb.quad([DVec3::new(b.x, a.y, a.z), DVec3::new(b.x, a.y, b.z), DVec3::new(b.x, b.y, b.z), DVec3::new(b.x, b.y, a.z)], rim);
+    mb.quad([DVec3::new(a.x, a.y, a.z), DVec3::new(b.x, a.y, a.z), DVec3::new(b.x, a.y, b.z), DVec3::new(a.x, a.y, b.z)], rim);
     mb.end();
     use Piece::*;
     let back = [Rook, Knight, Bishop, Queen, King, Bishop, Knight, Rook];
@@ -284,27 +151,14 @@ fn add_chess_set(
         }
     }
     for (k, &(i, j)) in squares.iter().enumerate() {
-        let (color, facing) = if k < 16 {
-            (WHITE_PIECE, 1.0)
-        } else {
-            (BLACK_PIECE, -1.0)
-        };
+        let (color, facing) = if k < 16 { (WHITE_PIECE, 1.0) } else { (BLACK_PIECE, -1.0) };
         let piece = if k % 2 == 1 { Pawn } else { back[(k / 2) % 8] };
-        let c = DVec3::new(
-            -half + (i as f64 + 0.5) * square,
-            0.0,
-            -half + (j as f64 + 0.5) * square,
-        );
+        let c = DVec3::new(-half + (i as f64 + 0.5) * square, 0.0, -half + (j as f64 + 0.5) * square);
         add_piece(mb, piece, c, piece_scale, color, facing, segments);
     }
 }
 
-fn finish(
-    name: &str,
-    mut mb: MeshBuilder,
-    camera: CameraSpec,
-    light: LightSpec,
-) -> Result<Scene, RenderError> {
+fn finish(name: &str, mut mb: MeshBuilder, camera: CameraSpec, light: LightSpec) -> Result<Scene, RenderError> {
     mb.end();
     Scene::new(name, mb.vertices, mb.indices, &mb.objects, camera, light)
 }
@@ -314,24 +168,12 @@ pub fn chessboard() -> Result<Scene, RenderError> {
     let mut mb = MeshBuilder::default();
     mb.begin(true);
     mb.quad(
-        [
-            DVec3::new(-14.0, -0.3, -14.0),
-            DVec3::new(14.0, -0.3, -14.0),
-            DVec3::new(14.0, -0.3, 14.0),
-            DVec3::new(-14.0, -0.3, 14.0),
-        ],
+        [DVec3::new(-14.0, -0.3, -14.0), DVec3::new(14.0, -0.3, -14.0), DVec3::new(14.0, -0.3, 14.0), DVec3::new(-14.0, -0.3, 14.0)],
         [150, 150, 142],
     );
     add_chess_set(&mut mb, 1.0, 1.0, 0.3, 14, None);
     let eye = DVec3::new(1.5, 5.0, 10.5);
-    let camera = CameraSpec {
-        eye,
-        forward: look(eye, DVec3::new(0.0, 0.0, 0.5)),
-        up: DVec3::Y,
-        fovy: deg(50.0),
-        near: 0.5,
-        far: 40.0,
-    };
+    let camera = CameraSpec { eye, forward: look(eye, DVec3::new(0.0, 0.0, 0.5)), up: DVec3::Y, fovy: deg(50.0), near: 0.5, far: 40.0 };
     let lp = DVec3::new(-6.0, 10.0, -5.0);
     let light = LightSpec::Spot {
         position: lp,
@@ -352,25 +194,14 @@ pub fn huge_chessboard() -> Result<Scene, RenderError> {
     add_chess_set(&mut mb, 87.5, 38.0, 6.0, 20, Some(0xC4E55));
     // From beside the board's left edge, low, looking across the empty middle ranks.
     let eye = DVec3::new(-385.0, 30.0, -100.0);
-    let camera = CameraSpec {
-        eye,
-        forward: look(eye, DVec3::new(200.0, 0.0, 60.0)),
-        up: DVec3::Y,
-        fovy: deg(60.0),
-        near: 1.0,
-        far: 800.0,
-    };
+    let camera = CameraSpec { eye, forward: look(eye, DVec3::new(200.0, 0.0, 60.0)), up: DVec3::Y, fovy: deg(60.0), near: 1.0, far: 800.0 };
     // A low sun (≈ 21° elevation) throwing long shadows across the board toward +z.
-    let light = LightSpec::Directional {
-        direction: DVec3::new(0.35, -0.36, 0.86),
-    };
+    let light = LightSpec::Directional { direction: DVec3::new(0.35, -0.36, 0.86) };
     finish("huge-chessboard", mb, camera, light)
 }
 
 fn terrain_height(x: f64, z: f64) -> f64 {
-    3.0 * (0.031 * x + 0.5).sin() * (0.026 * z).cos()
-        + 1.4 * (0.11 * x + 0.07 * z).sin()
-        + 0.5 * (0.23 * z - 0.1 * x).sin()
+    3.0 * (0.031 * x + 0.5).sin() * (0.026 * z).cos() + 1.4 * (0.11 * x + 0.07 * z).sin() + 0.5 * (0.23 * z - 0.1 * x).sin()
 }
 
 /// `forest`: 256 m × 256 m rolling terrain with 10,000 trees, directional light, camera at eye
@@ -379,19 +210,10 @@ pub fn forest() -> Result<Scene, RenderError> {
     let mut mb = MeshBuilder::default();
     let mut rng = Rng(0x5EED_F0E5_7000);
     mb.begin(true);
-    mb.heightfield(
-        -128.0,
-        -128.0,
-        128.0,
-        128.0,
-        128,
-        128,
-        terrain_height,
-        |_, y, _| {
-            let g = (110.0 + 8.0 * y).clamp(80.0, 140.0) as u8;
-            [g / 2 + 20, g, g / 3 + 10]
-        },
-    );
+    mb.heightfield(-128.0, -128.0, 128.0, 128.0, 128, 128, terrain_height, |_, y, _| {
+        let g = (110.0 + 8.0 * y).clamp(80.0, 140.0) as u8;
+        [g / 2 + 20, g, g / 3 + 10]
+    });
     mb.end();
     // 100 × 100 jittered grid over [−120, 120]²; rows in z so culled sets are long index runs.
     let step = 2.4;
@@ -406,34 +228,15 @@ pub fn forest() -> Result<Scene, RenderError> {
             let crown_r = rng.range(0.7, 1.3);
             let base = DVec3::new(x, y, z);
             mb.begin(false);
-            mb.lathe(
-                base,
-                &[(r, 0.0), (r * 0.7, trunk_h + 0.2)],
-                5,
-                [110, 80, 50],
-            );
+            mb.lathe(base, &[(r, 0.0), (r * 0.7, trunk_h + 0.2)], 5, [110, 80, 50]);
             let g = rng.range(70.0, 120.0) as u8;
-            mb.lathe(
-                base,
-                &[(crown_r, trunk_h), (0.0, trunk_h + crown_h)],
-                6,
-                [30, g, 40],
-            );
+            mb.lathe(base, &[(crown_r, trunk_h), (0.0, trunk_h + crown_h)], 6, [30, g, 40]);
             mb.end();
         }
     }
     let eye = DVec3::new(0.0, terrain_height(0.0, -126.0) + 1.7, -126.0);
-    let camera = CameraSpec {
-        eye,
-        forward: DVec3::new(0.12, -0.08, 1.0),
-        up: DVec3::Y,
-        fovy: deg(45.0),
-        near: 0.1,
-        far: 70.0,
-    };
-    let light = LightSpec::Directional {
-        direction: DVec3::new(0.55, -0.6, 0.3),
-    };
+    let camera = CameraSpec { eye, forward: DVec3::new(0.12, -0.08, 1.0), up: DVec3::Y, fovy: deg(45.0), near: 0.1, far: 70.0 };
+    let light = LightSpec::Directional { direction: DVec3::new(0.55, -0.6, 0.3) };
     finish("forest", mb, camera, light)
 }
 
@@ -444,48 +247,12 @@ fn add_robot(mb: &mut MeshBuilder, at: DVec3, h: f64, yaw: f64, color: [u8; 3]) 
     let u = h / 10.0;
     let p = |x: f64, y: f64, z: f64| at + ax * (x * u) + DVec3::Y * (y * u) + az * (z * u);
     mb.begin(false);
-    mb.oriented_box(
-        p(-1.2, 2.5, 0.0),
-        DVec3::new(0.6, 2.5, 0.7) * u,
-        ax,
-        az,
-        color,
-    );
-    mb.oriented_box(
-        p(1.2, 2.5, 0.3),
-        DVec3::new(0.6, 2.5, 0.7) * u,
-        ax,
-        az,
-        color,
-    );
-    mb.oriented_box(
-        p(0.0, 6.5, 0.0),
-        DVec3::new(2.2, 1.7, 1.4) * u,
-        ax,
-        az,
-        color,
-    );
-    mb.oriented_box(
-        p(0.0, 9.0, 0.3),
-        DVec3::new(0.9, 0.8, 0.9) * u,
-        ax,
-        az,
-        [200, 60, 40],
-    );
-    mb.oriented_box(
-        p(-2.8, 6.4, 0.8),
-        DVec3::new(0.5, 0.5, 2.0) * u,
-        ax,
-        az,
-        color,
-    );
-    mb.oriented_box(
-        p(2.8, 6.8, 1.2),
-        DVec3::new(0.4, 0.4, 2.6) * u,
-        ax,
-        az,
-        [70, 70, 70],
-    );
+    mb.oriented_box(p(-1.2, 2.5, 0.0), DVec3::new(0.6, 2.5, 0.7) * u, ax, az, color);
+    mb.oriented_box(p(1.2, 2.5, 0.3), DVec3::new(0.6, 2.5, 0.7) * u, ax, az, color);
+    mb.oriented_box(p(0.0, 6.5, 0.0), DVec3::new(2.2, 1.7, 1.4) * u, ax, az, color);
+    mb.oriented_box(p(0.0, 9.0, 0.3), DVec3::new(0.9, 0.8, 0.9) * u, ax, az, [200, 60, 40]);
+    mb.oriented_box(p(-2.8, 6.4, 0.8), DVec3::new(0.5, 0.5, 2.0) * u, ax, az, color);
+    mb.oriented_box(p(2.8, 6.8, 1.2), DVec3::new(0.4, 0.4, 2.6) * u, ax, az, [70, 70, 70]);
     mb.end();
 }
 
@@ -504,11 +271,7 @@ pub fn robot_war() -> Result<Scene, RenderError> {
         16,
         |_, _| 0.0,
         |x, _, z| {
-            let c = if ((x / 75.0).floor() + (z / 75.0).floor()) as i64 % 2 == 0 {
-                128
-            } else {
-                118
-            };
+            let c = if ((x / 75.0).floor() + (z / 75.0).floor()) as i64 % 2 == 0 { 128 } else { 118 };
             [c, c - 6, c - 20]
         },
     );
@@ -521,54 +284,25 @@ pub fn robot_war() -> Result<Scene, RenderError> {
                 break (x, z);
             }
         };
-        let (w, d, h) = (
-            rng.range(20.0, 60.0),
-            rng.range(20.0, 60.0),
-            rng.range(15.0, 80.0),
-        );
+        let (w, d, h) = (rng.range(20.0, 60.0), rng.range(20.0, 60.0), rng.range(15.0, 80.0));
         let yaw = rng.range(0.0, std::f64::consts::PI);
         let ax = DVec3::new(yaw.cos(), 0.0, yaw.sin());
         let az = DVec3::new(-yaw.sin(), 0.0, yaw.cos());
         let g = rng.range(140.0, 200.0) as u8;
         mb.begin(false);
-        mb.oriented_box(
-            DVec3::new(x, 0.5 * h, z),
-            DVec3::new(0.5 * w, 0.5 * h, 0.5 * d),
-            ax,
-            az,
-            [g, g, g.saturating_sub(10)],
-        );
+        mb.oriented_box(DVec3::new(x, 0.5 * h, z), DVec3::new(0.5 * w, 0.5 * h, 0.5 * d), ax, az, [g, g, g.saturating_sub(10)]);
         mb.end();
     }
     for k in 0..100 {
         let (x, z) = (rng.range(-500.0, 500.0), rng.range(-520.0, 560.0));
         let h = rng.range(12.0, 25.0);
-        let color = if k % 2 == 0 {
-            [70, 110, 170]
-        } else {
-            [170, 120, 60]
-        };
-        add_robot(
-            &mut mb,
-            DVec3::new(x, 0.0, z),
-            h,
-            rng.range(0.0, std::f64::consts::TAU),
-            color,
-        );
+        let color = if k % 2 == 0 { [70, 110, 170] } else { [170, 120, 60] };
+        add_robot(&mut mb, DVec3::new(x, 0.0, z), h, rng.range(0.0, std::f64::consts::TAU), color);
     }
     let eye = DVec3::new(-20.0, 14.0, -590.0);
-    let camera = CameraSpec {
-        eye,
-        forward: DVec3::new(0.08, -0.04, 1.0),
-        up: DVec3::Y,
-        fovy: deg(60.0),
-        near: 1.0,
-        far: 1000.0,
-    };
+    let camera = CameraSpec { eye, forward: DVec3::new(0.08, -0.04, 1.0), up: DVec3::Y, fovy: deg(60.0), near: 1.0, far: 1000.0 };
     // Afternoon sun from the left: shadows fall across the view, between the buildings.
-    let light = LightSpec::Directional {
-        direction: DVec3::new(0.75, -0.5, 0.25),
-    };
+    let light = LightSpec::Directional { direction: DVec3::new(0.75, -0.5, 0.25) };
     finish("robot-war", mb, camera, light)
 }
 
@@ -578,16 +312,7 @@ pub fn duelling_frusta() -> Result<Scene, RenderError> {
     let mut mb = MeshBuilder::default();
     let mut rng = Rng(0xD0E1);
     mb.begin(true);
-    mb.heightfield(
-        -150.0,
-        -150.0,
-        150.0,
-        150.0,
-        12,
-        12,
-        |_, _| 0.0,
-        |_, _, _| [140, 150, 120],
-    );
+    mb.heightfield(-150.0, -150.0, 150.0, 150.0, 12, 12, |_, _| 0.0, |_, _, _| [140, 150, 120]);
     mb.end();
     for j in 0..12 {
         for i in 0..10 {
@@ -596,34 +321,17 @@ pub fn duelling_frusta() -> Result<Scene, RenderError> {
             mb.begin(false);
             if (i + j) % 3 == 0 {
                 let s = rng.range(2.0, 5.0);
-                mb.cuboid(
-                    DVec3::new(x - s, 0.0, z - s),
-                    DVec3::new(x + s, 2.0 * s, z + s),
-                    [180, 90, 70],
-                );
+                mb.cuboid(DVec3::new(x - s, 0.0, z - s), DVec3::new(x + s, 2.0 * s, z + s), [180, 90, 70]);
             } else {
                 let h = rng.range(6.0, 14.0);
-                mb.cuboid(
-                    DVec3::new(x - 0.4, 0.0, z - 0.4),
-                    DVec3::new(x + 0.4, h, z + 0.4),
-                    [200, 190, 160],
-                );
+                mb.cuboid(DVec3::new(x - 0.4, 0.0, z - 0.4), DVec3::new(x + 0.4, h, z + 0.4), [200, 190, 160]);
             }
             mb.end();
         }
     }
     let eye = DVec3::new(0.0, 9.0, -125.0);
-    let camera = CameraSpec {
-        eye,
-        forward: DVec3::new(0.0, -0.15, 1.0),
-        up: DVec3::Y,
-        fovy: deg(60.0),
-        near: 0.5,
-        far: 250.0,
-    };
-    let light = LightSpec::Directional {
-        direction: DVec3::new(0.08, -0.32, -1.0),
-    };
+    let camera = CameraSpec { eye, forward: DVec3::new(0.0, -0.15, 1.0), up: DVec3::Y, fovy: deg(60.0), near: 0.5, far: 250.0 };
+    let light = LightSpec::Directional { direction: DVec3::new(0.08, -0.32, -1.0) };
     finish("duelling-frusta", mb, camera, light)
 }
 
@@ -634,16 +342,7 @@ pub fn inverted() -> Result<Scene, RenderError> {
     let mut mb = MeshBuilder::default();
     let mut rng = Rng(0x1A7E);
     mb.begin(true);
-    mb.heightfield(
-        -40.0,
-        -40.0,
-        40.0,
-        40.0,
-        8,
-        8,
-        |_, _| 0.0,
-        |_, _, _| [150, 140, 130],
-    );
+    mb.heightfield(-40.0, -40.0, 40.0, 40.0, 8, 8, |_, _| 0.0, |_, _, _| [150, 140, 130]);
     mb.end();
     for k in 0..18 {
         let x = -12.0 + (k % 6) as f64 * 4.8 + rng.range(-1.0, 1.0);
@@ -651,34 +350,16 @@ pub fn inverted() -> Result<Scene, RenderError> {
         mb.begin(false);
         if k % 2 == 0 {
             let h = rng.range(1.0, 3.0);
-            mb.cuboid(
-                DVec3::new(x - 0.8, 0.0, z - 0.8),
-                DVec3::new(x + 0.8, h, z + 0.8),
-                [90, 130, 190],
-            );
+            mb.cuboid(DVec3::new(x - 0.8, 0.0, z - 0.8), DVec3::new(x + 0.8, h, z + 0.8), [90, 130, 190]);
         } else {
             let r = rng.range(0.3, 0.6);
-            mb.lathe(
-                DVec3::new(x, 0.0, z),
-                &[(r, 0.0), (r, 3.5), (r * 1.6, 3.7), (0.0, 3.9)],
-                12,
-                [210, 170, 90],
-            );
+            mb.lathe(DVec3::new(x, 0.0, z), &[(r, 0.0), (r, 3.5), (r * 1.6, 3.7), (0.0, 3.9)], 12, [210, 170, 90]);
         }
         mb.end();
     }
     let eye = DVec3::new(0.0, 3.0, -20.0);
-    let camera = CameraSpec {
-        eye,
-        forward: DVec3::new(0.0, -0.2, 1.0),
-        up: DVec3::Y,
-        fovy: deg(55.0),
-        near: 0.3,
-        far: 80.0,
-    };
-    let light = LightSpec::Point {
-        position: DVec3::new(3.0, 9.0, -31.0),
-    };
+    let camera = CameraSpec { eye, forward: DVec3::new(0.0, -0.2, 1.0), up: DVec3::Y, fovy: deg(55.0), near: 0.3, far: 80.0 };
+    let light = LightSpec::Point { position: DVec3::new(3.0, 9.0, -31.0) };
     finish("inverted", mb, camera, light)
 }
 
@@ -694,11 +375,7 @@ pub fn thin_casters() -> Result<Scene, RenderError> {
     let mut rng = Rng(0x7416_CA57);
     // The ground: a slab whose top face is y = 0 (the only receiver).
     mb.begin(true);
-    mb.cuboid(
-        DVec3::new(-200.0, -2.0, -200.0),
-        DVec3::new(200.0, 0.0, 200.0),
-        [150, 158, 128],
-    );
+    mb.cuboid(DVec3::new(-200.0, -2.0, -200.0), DVec3::new(200.0, 0.0, 200.0), [150, 158, 128]);
     mb.end();
     let wood = [176, 140, 96];
     let steel = [150, 150, 160];
@@ -730,21 +407,9 @@ pub fn thin_casters() -> Result<Scene, RenderError> {
                     let (span, h) = (rng.range(3.0, 6.0), rng.range(2.2, 3.5));
                     mb.begin(false);
                     for s in [-0.5, 0.5] {
-                        mb.oriented_box(
-                            at(s * span, 0.5 * h, 0.0),
-                            DVec3::new(0.1, 0.5 * h, 0.1),
-                            ax,
-                            az,
-                            steel,
-                        );
+                        mb.oriented_box(at(s * span, 0.5 * h, 0.0), DVec3::new(0.1, 0.5 * h, 0.1), ax, az, steel);
                     }
-                    mb.oriented_box(
-                        at(0.0, h + 0.1, 0.0),
-                        DVec3::new(0.5 * span + 0.3, 0.1, 0.08),
-                        ax,
-                        az,
-                        steel,
-                    );
+                    mb.oriented_box(at(0.0, h + 0.1, 0.0), DVec3::new(0.5 * span + 0.3, 0.1, 0.08), ax, az, steel);
                     mb.end();
                 }
                 2 => {
@@ -752,24 +417,12 @@ pub fn thin_casters() -> Result<Scene, RenderError> {
                     let (len, h) = (rng.range(4.0, 8.0), rng.range(1.0, 1.6));
                     mb.begin(false);
                     for y in [0.3, h - 0.15] {
-                        mb.oriented_box(
-                            at(0.0, y, 0.0),
-                            DVec3::new(0.5 * len, 0.04, 0.03),
-                            ax,
-                            az,
-                            wood,
-                        );
+                        mb.oriented_box(at(0.0, y, 0.0), DVec3::new(0.5 * len, 0.04, 0.03), ax, az, wood);
                     }
                     let n = (len / 0.26) as i32;
                     for k in 0..n {
                         let u = -0.5 * len + (k as f64 + 0.5) * len / n as f64;
-                        mb.oriented_box(
-                            at(u, 0.5 * h, 0.06),
-                            DVec3::new(0.06, 0.5 * h, 0.015),
-                            ax,
-                            az,
-                            wood,
-                        );
+                        mb.oriented_box(at(u, 0.5 * h, 0.06), DVec3::new(0.06, 0.5 * h, 0.015), ax, az, wood);
                     }
                     mb.end();
                 }
@@ -780,13 +433,7 @@ pub fn thin_casters() -> Result<Scene, RenderError> {
                     mb.oriented_box(at(0.0, s, 0.0), DVec3::splat(s), ax, az, [160, 110, 60]);
                     if rng.range(0.0, 1.0) < 0.5 {
                         let t = 0.6 * s;
-                        mb.oriented_box(
-                            at(0.1 * s, 2.0 * s + t, -0.1 * s),
-                            DVec3::splat(t),
-                            az,
-                            -ax,
-                            [170, 120, 70],
-                        );
+                        mb.oriented_box(at(0.1 * s, 2.0 * s + t, -0.1 * s), DVec3::splat(t), az, -ax, [170, 120, 70]);
                     }
                     mb.end();
                 }
@@ -796,19 +443,10 @@ pub fn thin_casters() -> Result<Scene, RenderError> {
         j += 1;
     }
     let eye = DVec3::new(0.0, 1.7, -150.0);
-    let camera = CameraSpec {
-        eye,
-        forward: DVec3::new(0.0, -0.06, 1.0),
-        up: DVec3::Y,
-        fovy: deg(60.0),
-        near: 0.5,
-        far: 250.0,
-    };
+    let camera = CameraSpec { eye, forward: DVec3::new(0.0, -0.06, 1.0), up: DVec3::Y, fovy: deg(60.0), near: 0.5, far: 250.0 };
     // 15° above the horizon, travelling toward the camera, 5° off the view axis.
     let (el, az) = (deg(15.0), deg(5.0));
-    let light = LightSpec::Directional {
-        direction: DVec3::new(el.cos() * az.sin(), -el.sin(), -el.cos() * az.cos()),
-    };
+    let light = LightSpec::Directional { direction: DVec3::new(el.cos() * az.sin(), -el.sin(), -el.cos() * az.cos()) };
     finish("thin-casters", mb, camera, light)
 }
 
@@ -826,12 +464,7 @@ mod tests {
             let b = builtin_scene(name).unwrap();
             assert_eq!(a.vertices, b.vertices, "{name}");
             assert_eq!(a.indices, b.indices, "{name}");
-            assert!(
-                a.objects
-                    .iter()
-                    .all(|o| o.index_count > 0 && !o.aabb.is_empty()),
-                "{name}"
-            );
+            assert!(a.objects.iter().all(|o| o.index_count > 0 && !o.aabb.is_empty()), "{name}");
             let c = a.camera;
             assert!(c.near < c.far, "{name}");
         }
@@ -849,18 +482,10 @@ mod tests {
         assert!((rw.bounds.max.x - rw.bounds.min.x - 1200.0).abs() < 1e-9);
         let inv = inverted().unwrap();
         let lp = inv.light.position().unwrap();
-        assert!(
-            inv.camera.view_depth(lp) < 0.0,
-            "the light is behind the camera"
-        );
+        assert!(inv.camera.view_depth(lp) < 0.0, "the light is behind the camera");
         let df = duelling_frusta().unwrap();
-        let LightSpec::Directional { direction } = df.light else {
-            panic!()
-        };
-        assert!(
-            direction.normalize().dot(df.camera.forward.normalize()) < -0.8,
-            "light faces the viewer"
-        );
+        let LightSpec::Directional { direction } = df.light else { panic!() };
+        assert!(direction.normalize().dot(df.camera.forward.normalize()) < -0.8, "light faces the viewer");
         let tc = thin_casters().unwrap();
         let ext = tc.bounds.max - tc.bounds.min;
         assert!((ext.x - 400.0).abs() < 1e-9 && (ext.z - 400.0).abs() < 1e-9);
@@ -869,14 +494,9 @@ mod tests {
         let c = tc.camera;
         assert_eq!((c.near, c.far, c.eye.y), (0.5, 250.0, 1.7));
         assert!((c.fovy - 60f64.to_radians()).abs() < 1e-12);
-        let LightSpec::Directional { direction } = tc.light else {
-            panic!()
-        };
+        let LightSpec::Directional { direction } = tc.light else { panic!() };
         let d = direction.normalize();
-        assert!(
-            (d.y + 15f64.to_radians().sin()).abs() < 1e-12,
-            "sun 15° above the horizon"
-        );
+        assert!((d.y + 15f64.to_radians().sin()).abs() < 1e-12, "sun 15° above the horizon");
         assert!(d.dot(c.forward.normalize()) < -0.9, "light faces the viewer");
         // Thin casters: posts at most 0.32 m thick (0.46 m across their box when turned).
         let thin = tc.objects[1..]
@@ -905,9 +525,6 @@ mod tests {
 
     #[test]
     fn unknown_scene_is_an_error() {
-        assert!(matches!(
-            builtin_scene("nope"),
-            Err(RenderError::UnknownScene { .. })
-        ));
+        assert!(matches!(builtin_scene("nope"), Err(RenderError::UnknownScene { .. })));
     }
 }

@@ -51,24 +51,14 @@ fn ortho_fit(d: DVec3, pts: &[DVec3], depth_pts: &[DVec3]) -> DMat4 {
     let pad = 1e-3 * (zhi - zlo).max(1e-9);
     let padx = 1e-3 * (hi.x - lo.x).max(1e-9);
     let pady = 1e-3 * (hi.y - lo.y).max(1e-9);
-    glam::dcamera::rh::proj::directx::orthographic(
-        lo.x - padx,
-        hi.x + padx,
-        lo.y - pady,
-        hi.y + pady,
-        -zhi - pad,
-        -zlo + pad,
-    ) * view
+    glam::dcamera::rh::proj::directx::orthographic(lo.x - padx, hi.x + padx, lo.y - pady, hi.y + pady, -zhi - pad, -zlo + pad) * view
 }
 
 /// Perspective world → clip from `pos` covering every point of `pts` (square, z ∈ [0, 1]).
 fn perspective_fit(pos: DVec3, pts: &[DVec3], toward: DVec3) -> Result<DMat4, RenderError> {
     let d = (toward - pos).normalize_or_zero();
     if d == DVec3::ZERO {
-        return Err(RenderError::invalid(
-            "test fit",
-            "light at the scene centre",
-        ));
+        return Err(RenderError::invalid("test fit", "light at the scene centre"));
     }
     let view = light_view(pos, d);
     let (mut t, mut near, mut far) = (0.0f64, f64::INFINITY, 0.0f64);
@@ -76,10 +66,7 @@ fn perspective_fit(pos: DVec3, pts: &[DVec3], toward: DVec3) -> Result<DMat4, Re
         let q = view.transform_point3(*p);
         let depth = -q.z;
         if depth <= 0.0 {
-            return Err(RenderError::invalid(
-                "test fit",
-                "scene point behind the light's view",
-            ));
+            return Err(RenderError::invalid("test fit", "scene point behind the light's view"));
         }
         t = t.max(q.x.abs() / depth).max(q.y.abs() / depth);
         near = near.min(depth);
@@ -93,28 +80,19 @@ fn perspective_fit(pos: DVec3, pts: &[DVec3], toward: DVec3) -> Result<DMat4, Re
 /// own pyramid; for a point light a perspective map over the box, or over the camera frustum
 /// when part of the box lies behind the light. Serves the camera's whole depth range and draws
 /// every object.
-pub fn scene_box_map(
-    scene: &Scene,
-    camera: &CameraSpec,
-    light: &LightSpec,
-    aspect: f64,
-) -> Result<ShadowMapSpec, RenderError> {
+pub fn scene_box_map(scene: &Scene, camera: &CameraSpec, light: &LightSpec, aspect: f64) -> Result<ShadowMapSpec, RenderError> {
     let corners = scene.bounds.corners();
     let m = match *light {
         LightSpec::Directional { direction } => ortho_fit(direction, &corners, &corners),
-        LightSpec::Spot { .. } => light
-            .spot_matrix()
-            .ok_or_else(|| RenderError::invalid("test fit", "bad spot light"))?,
-        LightSpec::Point { position } => {
-            match perspective_fit(position, &corners, scene.bounds.center()) {
-                Ok(m) => m,
-                Err(_) => {
-                    let fc = camera.corners(aspect)?;
-                    let centre = fc.iter().fold(DVec3::ZERO, |a, &c| a + c) / 8.0;
-                    perspective_fit(position, &fc, centre)?
-                }
+        LightSpec::Spot { .. } => light.spot_matrix().ok_or_else(|| RenderError::invalid("test fit", "bad spot light"))?,
+        LightSpec::Point { position } => match perspective_fit(position, &corners, scene.bounds.center()) {
+            Ok(m) => m,
+            Err(_) => {
+                let fc = camera.corners(aspect)?;
+                let centre = fc.iter().fold(DVec3::ZERO, |a, &c| a + c) / 8.0;
+                perspective_fit(position, &fc, centre)?
             }
-        }
+        },
     };
     Ok(ShadowMapSpec {
         world_to_clip: m.as_mat4(),
@@ -143,28 +121,15 @@ pub fn practical_splits(near: f64, far: f64, m: usize) -> Vec<f64> {
 /// Parallel-split orthographic maps for a directional light: each fitted to its sub-frustum in
 /// x, y and to the sub-frustum plus the scene box in depth, so every caster toward the light is
 /// inside. Casters are the objects whose boxes meet the map's light-space box.
-pub fn split_maps(
-    scene: &Scene,
-    camera: &CameraSpec,
-    light: &LightSpec,
-    aspect: f64,
-    m: usize,
-) -> Result<Vec<ShadowMapSpec>, RenderError> {
+pub fn split_maps(scene: &Scene, camera: &CameraSpec, light: &LightSpec, aspect: f64, m: usize) -> Result<Vec<ShadowMapSpec>, RenderError> {
     let LightSpec::Directional { direction } = *light else {
-        return Err(RenderError::invalid(
-            "test fit",
-            "split maps are only fitted for directional lights",
-        ));
+        return Err(RenderError::invalid("test fit", "split maps are only fitted for directional lights"));
     };
     let cs = practical_splits(camera.near, camera.far, m.max(1));
     let box_corners = scene.bounds.corners();
     let mut out = Vec::new();
     for w in cs.windows(2) {
-        let sub = CameraSpec {
-            near: w[0],
-            far: w[1],
-            ..*camera
-        };
+        let sub = CameraSpec { near: w[0], far: w[1], ..*camera };
         let c = sub.corners(aspect)?;
         let mat = ortho_fit(direction, &c, &box_corners);
         out.push(ShadowMapSpec {
@@ -186,13 +151,7 @@ fn objects_in_clip_box(scene: &Scene, m: &DMat4) -> Vec<u32> {
             let q = *m * c.extend(1.0);
             b.grow(q.truncate() / q.w);
         }
-        if b.max.x >= -1.0
-            && b.min.x <= 1.0
-            && b.max.y >= -1.0
-            && b.min.y <= 1.0
-            && b.max.z >= 0.0
-            && b.min.z <= 1.0
-        {
+        if b.max.x >= -1.0 && b.min.x <= 1.0 && b.max.y >= -1.0 && b.min.y <= 1.0 && b.max.z >= 0.0 && b.min.z <= 1.0 {
             out.push(k as u32);
         }
     }
@@ -206,11 +165,7 @@ pub fn reverse_depth(map: &ShadowMapSpec) -> ShadowMapSpec {
     let m = map.world_to_clip.as_dmat4().transpose(); // rows as columns
     let rows = [m.x_axis, m.y_axis, m.w_axis - m.z_axis, m.w_axis];
     let flipped = DMat4::from_cols(rows[0], rows[1], rows[2], rows[3]).transpose();
-    ShadowMapSpec {
-        world_to_clip: flipped.as_mat4(),
-        depth_test: DepthTest::Greater,
-        ..map.clone()
-    }
+    ShadowMapSpec { world_to_clip: flipped.as_mat4(), depth_test: DepthTest::Greater, ..map.clone() }
 }
 
 /// The map zoomed by `factor` about its centre (x, y only): with factor > 1 it covers less.
@@ -221,8 +176,5 @@ pub fn zoom(map: &ShadowMapSpec, factor: f32) -> ShadowMapSpec {
         glam::Vec4::new(0.0, 0.0, 1.0, 0.0),
         glam::Vec4::new(0.0, 0.0, 0.0, 1.0),
     );
-    ShadowMapSpec {
-        world_to_clip: s * map.world_to_clip,
-        ..map.clone()
-    }
+    ShadowMapSpec { world_to_clip: s * map.world_to_clip, ..map.clone() }
 }

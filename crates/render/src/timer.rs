@@ -30,33 +30,21 @@ impl PhaseTimer {
             return None;
         }
         let device = &gpu.device;
-        let set = device.create_query_set(&wgpu::QuerySetDescriptor {
-            label: Some("phase times"),
-            ty: wgpu::QueryType::Timestamp,
-            count: SLOTS,
-        });
+        let set =
+            device.create_query_set(&wgpu::QuerySetDescriptor { label: Some("phase times"), ty: wgpu::QueryType::Timestamp, count: SLOTS });
         let resolved = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("phase times"),
             size: BYTES as u64,
             usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        Some(PhaseTimer {
-            set,
-            resolved,
-            period_ns: gpu.queue.get_timestamp_period() as f64,
-        })
+        Some(PhaseTimer { set, resolved, period_ns: gpu.queue.get_timestamp_period() as f64 })
     }
 
     /// The timestamp writes of pass `index` of the `count` passes of the
     /// phase whose slots start at `phase`: the first pass writes the start,
     /// the last the end.
-    pub(crate) fn writes(
-        &self,
-        phase: u32,
-        index: usize,
-        count: usize,
-    ) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+    pub(crate) fn writes(&self, phase: u32, index: usize, count: usize) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
         let (first, last) = (index == 0, index + 1 == count);
         (first || last).then_some(wgpu::RenderPassTimestampWrites {
             query_set: &self.set,
@@ -70,11 +58,7 @@ impl PhaseTimer {
     /// not after its start (a phase with no pass, or a driver that does not
     /// count).
     pub(crate) fn read(&self, gpu: &Gpu) -> Result<[Option<f64>; 2], RenderError> {
-        let mut enc = gpu
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("phase times"),
-            });
+        let mut enc = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("phase times") });
         enc.resolve_query_set(&self.set, 0..SLOTS, &self.resolved, 0);
         let mut rb = Readback::default();
         let slot = rb.add_buffer(&gpu.device, &mut enc, &self.resolved, BYTES);

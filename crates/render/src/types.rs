@@ -14,10 +14,7 @@ pub struct Bounds {
 
 impl Bounds {
     /// The empty box: the identity of [`Bounds::grow`].
-    pub const EMPTY: Bounds = Bounds {
-        min: DVec3::splat(f64::INFINITY),
-        max: DVec3::splat(f64::NEG_INFINITY),
-    };
+    pub const EMPTY: Bounds = Bounds { min: DVec3::splat(f64::INFINITY), max: DVec3::splat(f64::NEG_INFINITY) };
 
     pub fn grow(&mut self, p: DVec3) {
         self.min = self.min.min(p);
@@ -25,10 +22,7 @@ impl Bounds {
     }
 
     pub fn union(&self, o: &Bounds) -> Bounds {
-        Bounds {
-            min: self.min.min(o.min),
-            max: self.max.max(o.max),
-        }
+        Bounds { min: self.min.min(o.min), max: self.max.max(o.max) }
     }
 
     pub fn is_empty(&self) -> bool {
@@ -60,24 +54,14 @@ impl Bounds {
 }
 
 /// Orthonormal camera frame: right = forward × up, up = right × forward.
-fn orthonormal_frame(
-    what: &str,
-    forward: DVec3,
-    up: DVec3,
-) -> Result<(DVec3, DVec3, DVec3), RenderError> {
+fn orthonormal_frame(what: &str, forward: DVec3, up: DVec3) -> Result<(DVec3, DVec3, DVec3), RenderError> {
     let f = forward.normalize_or_zero();
     if f == DVec3::ZERO {
-        return Err(RenderError::invalid(
-            what,
-            "forward/direction is the zero vector",
-        ));
+        return Err(RenderError::invalid(what, "forward/direction is the zero vector"));
     }
     let r = f.cross(up).normalize_or_zero();
     if r == DVec3::ZERO {
-        return Err(RenderError::invalid(
-            what,
-            "up is zero or parallel to the forward direction",
-        ));
+        return Err(RenderError::invalid(what, "up is zero or parallel to the forward direction"));
     }
     Ok((f, r, r.cross(f)))
 }
@@ -103,19 +87,10 @@ impl CameraSpec {
         }
         check_finite("camera fovy/near/far", &[self.fovy, self.near, self.far])?;
         if !(self.fovy > 0.0 && self.fovy < std::f64::consts::PI) {
-            return Err(RenderError::invalid(
-                "camera fovy",
-                format!("{} rad is not in (0, π)", self.fovy),
-            ));
+            return Err(RenderError::invalid("camera fovy", format!("{} rad is not in (0, π)", self.fovy)));
         }
         if !(self.near > 0.0 && self.near < self.far) {
-            return Err(RenderError::invalid(
-                "camera near/far",
-                format!(
-                    "need 0 < near < far, got near {} far {}",
-                    self.near, self.far
-                ),
-            ));
+            return Err(RenderError::invalid("camera near/far", format!("need 0 < near < far, got near {} far {}", self.near, self.far)));
         }
         orthonormal_frame("camera", self.forward, self.up).map(|_| ())
     }
@@ -183,14 +158,7 @@ pub enum LightSpec {
     Point { position: DVec3 },
     /// A spot light whose lit region is a square pyramid (the frustum L of the focus body):
     /// apex `position`, axis `direction`, full opening angle `fovy`, clipped to [near, far].
-    Spot {
-        position: DVec3,
-        direction: DVec3,
-        up: DVec3,
-        fovy: f64,
-        near: f64,
-        far: f64,
-    },
+    Spot { position: DVec3, direction: DVec3, up: DVec3, fovy: f64, near: f64, far: f64 },
 }
 
 impl LightSpec {
@@ -199,38 +167,19 @@ impl LightSpec {
             LightSpec::Directional { direction } => {
                 check_finite("light direction", &direction.to_array())?;
                 if direction.length_squared() == 0.0 {
-                    return Err(RenderError::invalid(
-                        "light direction",
-                        "is the zero vector",
-                    ));
+                    return Err(RenderError::invalid("light direction", "is the zero vector"));
                 }
             }
             LightSpec::Point { position } => check_finite("light position", &position.to_array())?,
-            LightSpec::Spot {
-                position,
-                direction,
-                up,
-                fovy,
-                near,
-                far,
-            } => {
+            LightSpec::Spot { position, direction, up, fovy, near, far } => {
                 check_finite("spot light position", &position.to_array())?;
-                check_finite(
-                    "spot light direction/up",
-                    &[direction.to_array(), up.to_array()].concat(),
-                )?;
+                check_finite("spot light direction/up", &[direction.to_array(), up.to_array()].concat())?;
                 check_finite("spot light fovy/near/far", &[fovy, near, far])?;
                 if !(fovy > 0.0 && fovy < std::f64::consts::PI) {
-                    return Err(RenderError::invalid(
-                        "spot light fovy",
-                        format!("{fovy} rad is not in (0, π)"),
-                    ));
+                    return Err(RenderError::invalid("spot light fovy", format!("{fovy} rad is not in (0, π)")));
                 }
                 if !(near > 0.0 && near < far) {
-                    return Err(RenderError::invalid(
-                        "spot light near/far",
-                        format!("need 0 < near < far, got {near}, {far}"),
-                    ));
+                    return Err(RenderError::invalid("spot light near/far", format!("need 0 < near < far, got {near}, {far}")));
                 }
                 orthonormal_frame("spot light", direction, up)?;
             }
@@ -261,14 +210,7 @@ impl LightSpec {
     /// World → clip matrix of a spot light's pyramid (z ∈ [0, 1]); `None` for other lights.
     pub fn spot_matrix(&self) -> Option<DMat4> {
         match *self {
-            LightSpec::Spot {
-                position,
-                direction,
-                up,
-                fovy,
-                near,
-                far,
-            } => {
+            LightSpec::Spot { position, direction, up, fovy, near, far } => {
                 let (f, _, u) = orthonormal_frame("spot light", direction, up).ok()?;
                 Some(
                     glam::dcamera::rh::proj::directx::perspective(fovy, 1.0, near, far)
@@ -294,23 +236,9 @@ impl LightSpec {
     /// ready for `shadowfocus_geom::Frustum::from_corners`; `None` for other lights.
     pub fn spot_frustum_corners(&self) -> Option<[DVec3; 8]> {
         match *self {
-            LightSpec::Spot {
-                position,
-                direction,
-                up,
-                fovy,
-                near,
-                far,
-            } => CameraSpec {
-                eye: position,
-                forward: direction,
-                up,
-                fovy,
-                near,
-                far,
+            LightSpec::Spot { position, direction, up, fovy, near, far } => {
+                CameraSpec { eye: position, forward: direction, up, fovy, near, far }.corners(1.0).ok()
             }
-            .corners(1.0)
-            .ok(),
             _ => None,
         }
     }
@@ -374,11 +302,7 @@ pub enum DepthMode {
     /// `slope_scale` add wgpu's `DepthBiasState` to the casters on top of that (`constant` in units
     /// of the smallest resolvable depth step, `slope_scale` × max depth slope per texel); they are 0
     /// by default. Both point away from the light, for `DepthTest::Greater` maps too.
-    Projective {
-        constant: i32,
-        slope_scale: f32,
-        receiver_plane: bool,
-    },
+    Projective { constant: i32, slope_scale: f32, receiver_plane: bool },
     /// Linear light depth [SCH05 §4.2]: distance along the light direction (directional)
     /// or from the light (point, spot), normalised over the scene bounds, written per fragment and
     /// compared with "less" whatever the map's projective depth test. Bias = `constant` +
@@ -421,11 +345,7 @@ impl Default for RenderSettings {
             width: 640,
             height: 360,
             shadow_resolution: 1024,
-            depth: DepthMode::Projective {
-                constant: 0,
-                slope_scale: 0.0,
-                receiver_plane: true,
-            },
+            depth: DepthMode::Projective { constant: 0, slope_scale: 0.0, receiver_plane: true },
             pcf: Pcf::Hardware2x2,
             blend_band: 0.0,
             blur: None,
@@ -444,55 +364,32 @@ pub const MAX_MAPS: usize = 16;
 impl RenderSettings {
     pub fn validate(&self) -> Result<(), RenderError> {
         if self.width == 0 || self.height == 0 || self.width > 8192 || self.height > 8192 {
-            return Err(RenderError::invalid(
-                "image size",
-                format!("{}x{} is not within 1..=8192", self.width, self.height),
-            ));
+            return Err(RenderError::invalid("image size", format!("{}x{} is not within 1..=8192", self.width, self.height)));
         }
         if !(1..=16384).contains(&self.shadow_resolution) {
-            return Err(RenderError::invalid(
-                "shadow resolution",
-                format!("{} is not within 1..=16384", self.shadow_resolution),
-            ));
+            return Err(RenderError::invalid("shadow resolution", format!("{} is not within 1..=16384", self.shadow_resolution)));
         }
         check_finite("blend band", &[self.blend_band as f64])?;
         if !(0.0..=1.0).contains(&self.blend_band) {
-            return Err(RenderError::invalid(
-                "blend band",
-                format!("{} is not within [0, 1]", self.blend_band),
-            ));
+            return Err(RenderError::invalid("blend band", format!("{} is not within [0, 1]", self.blend_band)));
         }
         match self.depth {
-            DepthMode::Projective { slope_scale, .. } => {
-                check_finite("slope-scaled bias", &[slope_scale as f64])?
-            }
-            DepthMode::Linear {
-                constant,
-                slope_scale,
-            } => check_finite("linear depth bias", &[constant as f64, slope_scale as f64])?,
+            DepthMode::Projective { slope_scale, .. } => check_finite("slope-scaled bias", &[slope_scale as f64])?,
+            DepthMode::Linear { constant, slope_scale } => check_finite("linear depth bias", &[constant as f64, slope_scale as f64])?,
         }
         if let Pcf::Kernel { radius } = self.pcf {
             if radius > 8 {
-                return Err(RenderError::invalid(
-                    "PCF kernel radius",
-                    format!("{radius} > 8"),
-                ));
+                return Err(RenderError::invalid("PCF kernel radius", format!("{radius} > 8")));
             }
         }
         if let Some(b) = self.blur {
             check_finite("blur", &[b.world_radius as f64, b.max_radius_px as f64])?;
             if b.world_radius < 0.0 || b.max_radius_px < 0.0 || b.iterations > 64 {
-                return Err(RenderError::invalid(
-                    "blur",
-                    "radii must be ≥ 0 and iterations ≤ 64",
-                ));
+                return Err(RenderError::invalid("blur", "radii must be ≥ 0 and iterations ≤ 64"));
             }
         }
         if self.timing_repeats == 0 || self.timing_repeats > 100 {
-            return Err(RenderError::invalid(
-                "timing repeats",
-                "must be within 1..=100",
-            ));
+            return Err(RenderError::invalid("timing repeats", "must be within 1..=100"));
         }
         if self.edge_radius > 16 {
             return Err(RenderError::invalid("edge radius", "must be ≤ 16"));
@@ -502,33 +399,16 @@ impl RenderSettings {
 }
 
 /// Validates the maps against the scene: count, finite matrices, sane split ranges, caster indices.
-pub(crate) fn validate_maps(
-    maps: &[ShadowMapSpec],
-    object_count: usize,
-) -> Result<(), RenderError> {
+pub(crate) fn validate_maps(maps: &[ShadowMapSpec], object_count: usize) -> Result<(), RenderError> {
     if maps.len() > MAX_MAPS {
-        return Err(RenderError::invalid(
-            "shadow maps",
-            format!("{} maps, at most {MAX_MAPS}", maps.len()),
-        ));
+        return Err(RenderError::invalid("shadow maps", format!("{} maps, at most {MAX_MAPS}", maps.len())));
     }
     for (i, m) in maps.iter().enumerate() {
-        let vals: Vec<f64> = m
-            .world_to_clip
-            .to_cols_array()
-            .iter()
-            .map(|&v| v as f64)
-            .collect();
+        let vals: Vec<f64> = m.world_to_clip.to_cols_array().iter().map(|&v| v as f64).collect();
         check_finite(&format!("shadow map {i} matrix"), &vals)?;
-        check_finite(
-            &format!("shadow map {i} split"),
-            &[m.split[0] as f64, m.split[1] as f64],
-        )?;
+        check_finite(&format!("shadow map {i} split"), &[m.split[0] as f64, m.split[1] as f64])?;
         if m.split[0] > m.split[1] {
-            return Err(RenderError::invalid(
-                format!("shadow map {i} split"),
-                format!("start {} > end {}", m.split[0], m.split[1]),
-            ));
+            return Err(RenderError::invalid(format!("shadow map {i} split"), format!("start {} > end {}", m.split[0], m.split[1])));
         }
         if let Some(&bad) = m.casters.iter().find(|&&c| c as usize >= object_count) {
             return Err(RenderError::invalid(

@@ -44,32 +44,21 @@ fn shadows_agree_with_ray_cast_ground_truth_away_from_edges() {
     // Spot (chessboard), directional (huge board), point light behind the camera (inverted).
     for name in ["chessboard", "huge-chessboard", "inverted"] {
         let scene = builtin_scene(name).unwrap();
-        let map =
-            testfit::scene_box_map(&scene, &scene.camera, &scene.light, aspect(256, 144)).unwrap();
+        let map = testfit::scene_box_map(&scene, &scene.camera, &scene.light, aspect(256, 144)).unwrap();
         let maps = [map];
         let mut req = RenderRequest::new(&scene, &maps);
         small(&mut req, 256, 144, 2048);
         let Some(out) = render(&req) else { return };
         let m = out.metrics.mismatch.expect("ground truth was requested");
         eprintln!("{name}: {m:?}");
-        assert!(
-            m.off_edge_pixels > 5_000,
-            "{name}: too few off-edge pixels to judge ({m:?})"
-        );
-        assert!(
-            m.rate_off_edges < 0.01,
-            "{name}: {:.4} of off-edge pixels disagree with the ray cast",
-            m.rate_off_edges
-        );
+        assert!(m.off_edge_pixels > 5_000, "{name}: too few off-edge pixels to judge ({m:?})");
+        assert!(m.rate_off_edges < 0.01, "{name}: {:.4} of off-edge pixels disagree with the ray cast", m.rate_off_edges);
         assert!(m.rate < 0.05, "{name}: overall mismatch {:.4}", m.rate);
         // The scene has visible shadows at all (the comparison is not vacuous).
         let truth = out.truth.as_ref().unwrap();
         let occluded = truth.iter().filter(|v| **v == Visibility::Occluded).count();
         let lit = truth.iter().filter(|v| v.is_lit()).count();
-        assert!(
-            occluded > 200 && lit > 500,
-            "{name}: occluded {occluded}, lit {lit}"
-        );
+        assert!(occluded > 200 && lit > 500, "{name}: occluded {occluded}, lit {lit}");
     }
 }
 
@@ -78,48 +67,16 @@ fn aliasing_matches_the_analytic_footprint_ratio() {
     // Camera 10 m above a plane looking straight down, sun straight down, an orthographic map
     // 100 m wide at 512²: at the image centre one pixel spans 2·10·tan(30°)/128 m and one texel
     // 100/512 m, so e = (100/512) / (20·tan 30° / 128) screen pixels per texel.
-    let quad = [
-        (-100.0f32, -100.0f32),
-        (100.0, -100.0),
-        (100.0, 100.0),
-        (-100.0, 100.0),
-    ];
-    let vertices: Vec<Vertex> = quad
-        .iter()
-        .map(|&(x, z)| Vertex {
-            position: [x, 0.0, z],
-            color: [200, 200, 200, 255],
-        })
-        .collect();
-    let camera = CameraSpec {
-        eye: DVec3::new(0.0, 10.0, 0.0),
-        forward: -DVec3::Y,
-        up: DVec3::Z,
-        fovy: 60f64.to_radians(),
-        near: 1.0,
-        far: 50.0,
-    };
-    let light = LightSpec::Directional {
-        direction: -DVec3::Y,
-    };
-    let scene = Scene::new(
-        "plane",
-        vertices,
-        vec![0, 1, 2, 0, 2, 3],
-        &[(0, 6, true)],
-        camera,
-        light,
-    )
-    .unwrap();
-    let view =
-        glam::dcamera::rh::view::look_to_mat4(DVec3::new(0.0, 100.0, 0.0), -DVec3::Y, DVec3::Z);
+    let quad = [(-100.0f32, -100.0f32), (100.0, -100.0), (100.0, 100.0), (-100.0, 100.0)];
+    let vertices: Vec<Vertex> = quad.iter().map(|&(x, z)| Vertex { position: [x, 0.0, z], color: [200, 200, 200, 255] }).collect();
+    let camera =
+        CameraSpec { eye: DVec3::new(0.0, 10.0, 0.0), forward: -DVec3::Y, up: DVec3::Z, fovy: 60f64.to_radians(), near: 1.0, far: 50.0 };
+    let light = LightSpec::Directional { direction: -DVec3::Y };
+    let scene = Scene::new("plane", vertices, vec![0, 1, 2, 0, 2, 3], &[(0, 6, true)], camera, light).unwrap();
+    let view = glam::dcamera::rh::view::look_to_mat4(DVec3::new(0.0, 100.0, 0.0), -DVec3::Y, DVec3::Z);
     let proj = glam::dcamera::rh::proj::directx::orthographic(-50.0, 50.0, -50.0, 50.0, 1.0, 200.0);
-    let maps = [ShadowMapSpec {
-        world_to_clip: (proj * view).as_mat4(),
-        depth_test: DepthTest::Less,
-        split: [1.0, 50.0],
-        casters: vec![0],
-    }];
+    let maps =
+        [ShadowMapSpec { world_to_clip: (proj * view).as_mat4(), depth_test: DepthTest::Less, split: [1.0, 50.0], casters: vec![0] }];
     let mut req = RenderRequest::new(&scene, &maps);
     small(&mut req, 128, 128, 512);
     let Some(out) = render(&req) else { return };
@@ -128,52 +85,30 @@ fn aliasing_matches_the_analytic_footprint_ratio() {
     // same at every pixel, corners included.
     for (x, y) in [(63u32, 63u32), (64, 64), (0, 0), (127, 5), (3, 120)] {
         let e = out.aliasing[(y * 128 + x) as usize] as f64;
-        assert!(
-            (e / expected - 1.0).abs() < 0.02,
-            "pixel ({x}, {y}): e = {e}, expected {expected}"
-        );
+        assert!((e / expected - 1.0).abs() < 0.02, "pixel ({x}, {y}): e = {e}, expected {expected}");
     }
     assert!(out.metrics.coverage.complete);
-    assert!(
-        (out.metrics.aliasing.mean / expected - 1.0).abs() < 0.02,
-        "{:?}",
-        out.metrics.aliasing
-    );
+    assert!((out.metrics.aliasing.mean / expected - 1.0).abs() < 0.02, "{:?}", out.metrics.aliasing);
 }
 
 #[test]
 fn a_wrong_depth_test_is_caught_by_the_mismatch_metric() {
     // The inverted case: a map whose depth order is reversed must be compared with "greater".
     let scene = builtin_scene("inverted").unwrap();
-    let plain =
-        testfit::scene_box_map(&scene, &scene.camera, &scene.light, aspect(192, 108)).unwrap();
+    let plain = testfit::scene_box_map(&scene, &scene.camera, &scene.light, aspect(192, 108)).unwrap();
     let reversed = testfit::reverse_depth(&plain);
     assert_eq!(reversed.depth_test, DepthTest::Greater);
     let right = [reversed.clone()];
-    let wrong = [ShadowMapSpec {
-        depth_test: DepthTest::Less,
-        ..reversed
-    }];
+    let wrong = [ShadowMapSpec { depth_test: DepthTest::Less, ..reversed }];
     let mut req = RenderRequest::new(&scene, &right);
     small(&mut req, 192, 108, 1024);
     let Some(good) = render(&req) else { return };
     req.maps = &wrong;
     let bad = render(&req).unwrap();
-    let (g, b) = (
-        good.metrics.mismatch.unwrap(),
-        bad.metrics.mismatch.unwrap(),
-    );
+    let (g, b) = (good.metrics.mismatch.unwrap(), bad.metrics.mismatch.unwrap());
     eprintln!("greater: {g:?}\nless: {b:?}");
-    assert!(
-        g.rate_off_edges < 0.01,
-        "correct depth test: {:.4}",
-        g.rate_off_edges
-    );
-    assert!(
-        b.rate > 0.1 && b.rate > 20.0 * g.rate,
-        "a wrong depth test must show as a large mismatch, got {:.4}",
-        b.rate
-    );
+    assert!(g.rate_off_edges < 0.01, "correct depth test: {:.4}", g.rate_off_edges);
+    assert!(b.rate > 0.1 && b.rate > 20.0 * g.rate, "a wrong depth test must show as a large mismatch, got {:.4}", b.rate);
     // The pixels the map resolves hide no such error: there it shows at least as clearly.
     assert!(g.adequate_pixels > 1000 && b.adequate_pixels > 1000, "{g:?} {b:?}");
     assert!(
@@ -189,8 +124,7 @@ fn a_wider_filter_resolves_fewer_pixels_and_both_resolve_right() {
     // The adequate set keeps pixels whose lookup reads only texels that agree with the pixel's
     // ground truth: a wider PCF footprint reads more texels, so it can only keep fewer.
     let scene = builtin_scene("forest").unwrap();
-    let map =
-        testfit::scene_box_map(&scene, &scene.camera, &scene.light, aspect(256, 144)).unwrap();
+    let map = testfit::scene_box_map(&scene, &scene.camera, &scene.light, aspect(256, 144)).unwrap();
     let maps = [map];
     let mut req = RenderRequest::new(&scene, &maps);
     small(&mut req, 256, 144, 2048);
@@ -218,27 +152,15 @@ fn every_pixel_is_covered_by_parallel_splits_and_gaps_are_reported() {
     let c = out.metrics.coverage;
     assert!(c.complete && c.required > 5_000, "{c:?}");
     assert_eq!(out.metrics.split_pixels.len(), 4);
-    assert!(
-        out.metrics.split_pixels.iter().all(|&n| n > 0),
-        "every split serves pixels: {:?}",
-        out.metrics.split_pixels
-    );
+    assert!(out.metrics.split_pixels.iter().all(|&n| n > 0), "every split serves pixels: {:?}", out.metrics.split_pixels);
     // Caster culling: the near splits draw fewer objects than the scene has.
-    assert!(
-        out.metrics.casters.per_map[0] < out.metrics.casters.total,
-        "{:?}",
-        out.metrics.casters
-    );
+    assert!(out.metrics.casters.per_map[0] < out.metrics.casters.total, "{:?}", out.metrics.casters);
     // Shrinking one map's footprint must leave pixels uncovered.
     let mut shrunk = maps.clone();
     shrunk[1] = testfit::zoom(&maps[1], 20.0);
     req.maps = &shrunk;
     let out = render(&req).unwrap();
-    assert!(
-        !out.metrics.coverage.complete && out.metrics.coverage.uncovered > 100,
-        "{:?}",
-        out.metrics.coverage
-    );
+    assert!(!out.metrics.coverage.complete && out.metrics.coverage.uncovered > 100, "{:?}", out.metrics.coverage);
 }
 
 #[test]
@@ -259,10 +181,7 @@ fn aliasing_halves_when_the_shadow_resolution_doubles() {
     for v in [a.max, a.p95, a.mean, b.max, b.p95, b.mean] {
         assert!(v.is_finite() && v > 0.0, "{v}");
     }
-    assert!(
-        a.mean <= a.p95 * 1.0001 + 1e-9 || a.mean <= a.max,
-        "mean ≤ max"
-    );
+    assert!(a.mean <= a.p95 * 1.0001 + 1e-9 || a.mean <= a.max, "mean ≤ max");
     let r = b.mean / a.mean;
     assert!((r - 0.5).abs() < 0.02, "mean e ratio {r}");
     let r95 = b.p95 / a.p95;
@@ -287,10 +206,7 @@ fn parallel_splits_lower_aliasing_at_an_equal_texel_budget() {
     let b = render(&req).unwrap();
     let (a, b) = (a.metrics.aliasing, b.metrics.aliasing);
     eprintln!("uniform 1x1024²: {a:?}\nsplits 4x512²: {b:?}");
-    assert!(
-        b.p95 < a.p95 && b.max < a.max,
-        "splits {b:?} vs one map {a:?}"
-    );
+    assert!(b.p95 < a.p95 && b.max < a.max, "splits {b:?} vs one map {a:?}");
 }
 
 #[test]
@@ -299,32 +215,13 @@ fn filtering_blending_blur_and_linear_depth_keep_shadows_correct() {
     let (w, h) = (224, 126);
     let maps = testfit::split_maps(&scene, &scene.camera, &scene.light, aspect(w, h), 3).unwrap();
     let variants = [
-        (
-            "kernel pcf + blend",
-            Pcf::Kernel { radius: 1 },
-            0.15,
-            None,
-            RenderSettings::default().depth,
-        ),
-        (
-            "no pcf, linear depth",
-            Pcf::Off,
-            0.0,
-            None,
-            DepthMode::Linear {
-                constant: 2e-5,
-                slope_scale: 2.0,
-            },
-        ),
+        ("kernel pcf + blend", Pcf::Kernel { radius: 1 }, 0.15, None, RenderSettings::default().depth),
+        ("no pcf, linear depth", Pcf::Off, 0.0, None, DepthMode::Linear { constant: 2e-5, slope_scale: 2.0 }),
         (
             "eye-space blur",
             Pcf::Hardware2x2,
             0.0,
-            Some(EyeBlur {
-                world_radius: 1.5,
-                max_radius_px: 6.0,
-                iterations: 2,
-            }),
+            Some(EyeBlur { world_radius: 1.5, max_radius_px: 6.0, iterations: 2 }),
             RenderSettings::default().depth,
         ),
     ];
@@ -338,15 +235,8 @@ fn filtering_blending_blur_and_linear_depth_keep_shadows_correct() {
         let Some(out) = render(&req) else { return };
         let m = out.metrics.mismatch.unwrap();
         eprintln!("{label}: {m:?}");
-        assert!(
-            m.rate_off_edges < 0.01,
-            "{label}: off-edge mismatch {:.4}",
-            m.rate_off_edges
-        );
-        assert!(
-            out.shadow.iter().all(|s| (0.0..=1.0).contains(s)),
-            "{label}: shadow term out of [0, 1]"
-        );
+        assert!(m.rate_off_edges < 0.01, "{label}: off-edge mismatch {:.4}", m.rate_off_edges);
+        assert!(out.shadow.iter().all(|s| (0.0..=1.0).contains(s)), "{label}: shadow term out of [0, 1]");
         if blur.is_some() {
             // Blurring produces intermediate values along shadow edges.
             let soft = out.shadow.iter().filter(|&&s| s > 0.05 && s < 0.95).count();
@@ -358,10 +248,7 @@ fn filtering_blending_blur_and_linear_depth_keep_shadows_correct() {
     let maps = [testfit::scene_box_map(&scene, &scene.camera, &scene.light, aspect(w, h)).unwrap()];
     let mut req = RenderRequest::new(&scene, &maps);
     small(&mut req, w, h, 1024);
-    req.settings.depth = DepthMode::Linear {
-        constant: 2e-5,
-        slope_scale: 2.0,
-    };
+    req.settings.depth = DepthMode::Linear { constant: 2e-5, slope_scale: 2.0 };
     let Some(out) = render(&req) else { return };
     let m = out.metrics.mismatch.unwrap();
     assert!(m.rate_off_edges < 0.01, "linear depth, point light: {m:?}");
@@ -370,17 +257,13 @@ fn filtering_blending_blur_and_linear_depth_keep_shadows_correct() {
 #[test]
 fn gpu_phase_times_lie_within_the_wall_clock_times() {
     let scene = builtin_scene("chessboard").unwrap();
-    let maps =
-        [testfit::scene_box_map(&scene, &scene.camera, &scene.light, aspect(128, 72)).unwrap()];
+    let maps = [testfit::scene_box_map(&scene, &scene.camera, &scene.light, aspect(128, 72)).unwrap()];
     let mut req = RenderRequest::new(&scene, &maps);
     small(&mut req, 128, 72, 512);
     req.settings.timing_repeats = 2;
     let Some(out) = render(&req) else { return };
     let m = &out.metrics;
-    let phases = [
-        ("shadow", m.shadow_gpu_ms, m.shadow_pass_ms),
-        ("main", m.main_gpu_ms, m.main_pass_ms),
-    ];
+    let phases = [("shadow", m.shadow_gpu_ms, m.shadow_pass_ms), ("main", m.main_gpu_ms, m.main_pass_ms)];
     for (phase, gpu, wall) in phases {
         if !m.adapter.timestamps {
             assert_eq!(gpu, None, "{phase}: a GPU time without timestamp queries");
@@ -389,35 +272,20 @@ fn gpu_phase_times_lie_within_the_wall_clock_times() {
         let gpu = gpu.unwrap_or_else(|| panic!("{phase}: no GPU time on {:?}", m.adapter));
         // The GPU's work lies between the submission and the fence; the
         // slack covers converting its ticks to milliseconds.
-        assert!(
-            gpu > 0.0 && gpu <= wall * 1.01 + 0.05,
-            "{phase}: GPU {gpu} ms against wall clock {wall} ms"
-        );
+        assert!(gpu > 0.0 && gpu <= wall * 1.01 + 0.05, "{phase}: GPU {gpu} ms against wall clock {wall} ms");
     }
 }
 
 #[test]
 fn outputs_are_written_as_png_and_json() {
     let scene = builtin_scene("inverted").unwrap();
-    let maps =
-        [testfit::scene_box_map(&scene, &scene.camera, &scene.light, aspect(128, 72)).unwrap()];
+    let maps = [testfit::scene_box_map(&scene, &scene.camera, &scene.light, aspect(128, 72)).unwrap()];
     let mut req = RenderRequest::new(&scene, &maps);
     small(&mut req, 128, 72, 256);
     let Some(out) = render(&req) else { return };
     let dir = std::env::temp_dir().join(format!("sf-render-out-{}", std::process::id()));
-    let files = write_outputs(
-        &dir,
-        &out,
-        Some(&serde_json::json!({ "method": "uniform", "focusing_us": 1.5 })),
-    )
-    .unwrap();
-    for f in [
-        "image.png",
-        "shadow_map_0.png",
-        "aliasing.png",
-        "mismatch.png",
-        "metrics.json",
-    ] {
+    let files = write_outputs(&dir, &out, Some(&serde_json::json!({ "method": "uniform", "focusing_us": 1.5 }))).unwrap();
+    for f in ["image.png", "shadow_map_0.png", "aliasing.png", "mismatch.png", "metrics.json"] {
         assert!(files.contains(&dir.join(f)), "{f} missing from {files:?}");
     }
     let img = Image::load_png(&dir.join("image.png")).unwrap();
@@ -425,8 +293,7 @@ fn outputs_are_written_as_png_and_json() {
     assert_eq!(img, out.color);
     let sm = Image::load_png(&dir.join("shadow_map_0.png")).unwrap();
     assert_eq!(sm.width, 256);
-    let j: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("metrics.json")).unwrap()).unwrap();
+    let j: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("metrics.json")).unwrap()).unwrap();
     assert_eq!(j["method"], "uniform");
     assert_eq!(j["scene"], "inverted");
     assert!(j["aliasing"]["p95"].as_f64().unwrap() > 0.0);
@@ -443,17 +310,11 @@ fn bad_requests_are_typed_errors() {
     let mut nan = good.clone();
     nan.world_to_clip = Mat4::from_cols_array(&[f32::NAN; 16]);
     let maps = [nan];
-    assert!(matches!(
-        RenderRequest::new(&scene, &maps).validate(),
-        Err(RenderError::NonFinite { .. })
-    ));
+    assert!(matches!(RenderRequest::new(&scene, &maps).validate(), Err(RenderError::NonFinite { .. })));
     let mut bad_caster = good.clone();
     bad_caster.casters.push(10_000);
     let maps = [bad_caster];
-    assert!(matches!(
-        RenderRequest::new(&scene, &maps).validate(),
-        Err(RenderError::Invalid { .. })
-    ));
+    assert!(matches!(RenderRequest::new(&scene, &maps).validate(), Err(RenderError::Invalid { .. })));
     let maps = [good.clone()];
     let mut req = RenderRequest::new(&scene, &maps);
     req.settings.width = 0;
@@ -462,9 +323,7 @@ fn bad_requests_are_typed_errors() {
     req.camera.near = req.camera.far;
     assert!(req.validate().is_err());
     let mut req = RenderRequest::new(&scene, &maps);
-    req.light = LightSpec::Directional {
-        direction: DVec3::ZERO,
-    };
+    req.light = LightSpec::Directional { direction: DVec3::ZERO };
     assert!(req.validate().is_err());
     let many = vec![good; MAX_MAPS + 1];
     assert!(RenderRequest::new(&scene, &many).validate().is_err());
@@ -493,9 +352,7 @@ fn write_test_gltf(dir: &std::path::Path, offset: [f64; 3]) -> std::path::PathBu
         const A: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
         let mut s = String::new();
         for c in bytes.chunks(3) {
-            let n = (c[0] as u32) << 16
-                | (*c.get(1).unwrap_or(&0) as u32) << 8
-                | *c.get(2).unwrap_or(&0) as u32;
+            let n = (c[0] as u32) << 16 | (*c.get(1).unwrap_or(&0) as u32) << 8 | *c.get(2).unwrap_or(&0) as u32;
             for k in 0..4 {
                 if k <= c.len() {
                     s.push(A[(n >> (18 - 6 * k)) as usize & 63] as char);
@@ -548,71 +405,36 @@ fn gltf_scenes_load_with_camera_light_and_transforms_and_render() {
     let dir = std::env::temp_dir().join(format!("sf-render-gltf-{}", std::process::id()));
     let path = write_test_gltf(&dir, [0.0; 3]);
     let (scene, report) = load_gltf(&path, None, None).unwrap();
-    assert!(
-        report.camera_from_file && report.light_from_file && report.primitives == 1,
-        "{report:?}"
-    );
+    assert!(report.camera_from_file && report.light_from_file && report.primitives == 1, "{report:?}");
     assert_eq!(scene.triangle_count(), 4);
-    assert!(
-        (scene.bounds.min - DVec3::new(-10.0, 0.0, -10.0)).length() < 1e-9,
-        "scale applied: {:?}",
-        scene.bounds
-    );
-    assert!(
-        (scene.bounds.max - DVec3::new(10.0, 2.0, 10.0)).length() < 1e-9,
-        "{:?}",
-        scene.bounds
-    );
+    assert!((scene.bounds.min - DVec3::new(-10.0, 0.0, -10.0)).length() < 1e-9, "scale applied: {:?}", scene.bounds);
+    assert!((scene.bounds.max - DVec3::new(10.0, 2.0, 10.0)).length() < 1e-9, "{:?}", scene.bounds);
     assert!((scene.camera.eye - DVec3::new(0.0, 5.0, 10.0)).length() < 1e-6);
     let f = scene.camera.forward.normalize();
-    assert!(
-        (f - DVec3::new(0.0, -1.0, -2.0).normalize()).length() < 1e-6,
-        "camera looks along its −Z: {f:?}"
-    );
-    let LightSpec::Spot {
-        position,
-        direction,
-        fovy,
-        far,
-        ..
-    } = scene.light
-    else {
-        panic!("{:?}", scene.light)
-    };
+    assert!((f - DVec3::new(0.0, -1.0, -2.0).normalize()).length() < 1e-6, "camera looks along its −Z: {f:?}");
+    let LightSpec::Spot { position, direction, fovy, far, .. } = scene.light else { panic!("{:?}", scene.light) };
     assert!((position - DVec3::new(0.0, 10.0, 0.0)).length() < 1e-6);
-    assert!(
-        (direction.normalize() - DVec3::new(0.0, -1.0, 0.0)).length() < 1e-6,
-        "{direction:?}"
-    );
+    assert!((direction.normalize() - DVec3::new(0.0, -1.0, 0.0)).length() < 1e-6, "{direction:?}");
     assert!((fovy - 1.2).abs() < 1e-6 && (far - 50.0).abs() < 1e-6);
     // Overrides win.
-    let sun = LightSpec::Directional {
-        direction: DVec3::new(0.0, -1.0, 0.2),
-    };
+    let sun = LightSpec::Directional { direction: DVec3::new(0.0, -1.0, 0.2) };
     let (s2, r2) = load_gltf(&path, None, Some(sun)).unwrap();
     assert!(!r2.light_from_file && s2.light == sun);
     assert!(load_scene(path.to_str().unwrap()).is_ok());
     // Malformed files are errors, not panics.
     let broken = dir.join("broken.gltf");
     std::fs::write(&broken, "{ not json").unwrap();
-    assert!(matches!(
-        load_gltf(&broken, None, None),
-        Err(RenderError::Gltf { .. })
-    ));
+    assert!(matches!(load_gltf(&broken, None, None), Err(RenderError::Gltf { .. })));
     assert!(load_gltf(&dir.join("missing.glb"), None, None).is_err());
 
     // The floating square casts a shadow on the floor under the spot light.
-    let maps =
-        [testfit::scene_box_map(&scene, &scene.camera, &scene.light, aspect(160, 90)).unwrap()];
+    let maps = [testfit::scene_box_map(&scene, &scene.camera, &scene.light, aspect(160, 90)).unwrap()];
     let mut req = RenderRequest::new(&scene, &maps);
     small(&mut req, 160, 90, 1024);
     if let Some(out) = render(&req) {
         let truth = out.truth.as_ref().unwrap();
         let occluded = truth.iter().filter(|v| **v == Visibility::Occluded).count();
-        assert!(
-            occluded > 100,
-            "shadow of the floating square: {occluded} pixels"
-        );
+        assert!(occluded > 100, "shadow of the floating square: {occluded} pixels");
         let m = out.metrics.mismatch.unwrap();
         assert!(m.rate_off_edges < 0.01, "{m:?}");
     }
@@ -636,10 +458,7 @@ fn a_receiver_facing_the_light_on_the_maps_near_plane_does_not_shadow_itself() {
         small(&mut req, 160, 90, 1024);
         if let Some(out) = render(&req) {
             let m = out.metrics.mismatch.unwrap();
-            assert!(
-                m.off_edge_mismatched * 1000 < m.off_edge_pixels,
-                "{offset:?}: {m:?}"
-            );
+            assert!(m.off_edge_mismatched * 1000 < m.off_edge_pixels, "{offset:?}: {m:?}");
         }
         std::fs::remove_dir_all(&dir).ok();
     }
@@ -678,11 +497,7 @@ fn receiver_plane_bias_removes_acne_without_leaking() {
     let maps = testfit::split_maps(&scene, &scene.camera, &scene.light, aspect(w, h), 3).unwrap();
     let mut req = RenderRequest::new(&scene, &maps);
     small(&mut req, w, h, 1024);
-    req.settings.depth = DepthMode::Projective {
-        constant: 0,
-        slope_scale: 0.0,
-        receiver_plane: false,
-    };
+    req.settings.depth = DepthMode::Projective { constant: 0, slope_scale: 0.0, receiver_plane: false };
     let Some(none) = render(&req) else { return };
     let none = none.metrics.mismatch.unwrap();
     eprintln!("no bias: {none:?}");

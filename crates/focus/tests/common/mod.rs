@@ -80,8 +80,8 @@ pub enum LightKind {
 }
 
 pub fn light_strategy() -> impl Strategy<Value = Light> {
-    (0..3u8, (0.0..std::f64::consts::TAU, -1.5..1.5f64), (-90.0..90.0f64, -90.0..90.0f64, -90.0..90.0f64), 0.4..2.0f64)
-        .prop_map(|(kind, (t, p), (x, y, z), fov)| match kind {
+    (0..3u8, (0.0..std::f64::consts::TAU, -1.5..1.5f64), (-90.0..90.0f64, -90.0..90.0f64, -90.0..90.0f64), 0.4..2.0f64).prop_map(
+        |(kind, (t, p), (x, y, z), fov)| match kind {
             0 => Light::directional(unit(t, p)).unwrap(),
             1 => Light::point(DVec3::new(x, y, z)).unwrap(),
             _ => {
@@ -92,7 +92,8 @@ pub fn light_strategy() -> impl Strategy<Value = Light> {
                 let cam = Camera { eye: pos, forward: fwd, up, fovy: fov, aspect: 1.0, near: 0.5, far: 400.0 };
                 Light::spot(pos, Frustum::from_camera(&cam).unwrap()).unwrap()
             }
-        })
+        },
+    )
 }
 
 pub fn method_strategy() -> impl Strategy<Value = Method> {
@@ -100,8 +101,8 @@ pub fn method_strategy() -> impl Strategy<Value = Method> {
 }
 
 pub fn settings_strategy() -> impl Strategy<Value = FocusSettings> {
-    (method_strategy(), 1..=4usize, 0..3u8, 0.0..1.0f64, any::<bool>(), any::<bool>(), any::<bool>())
-        .prop_map(|(method, count, scheme, lambda, stable, middle, cube)| FocusSettings {
+    (method_strategy(), 1..=4usize, 0..3u8, 0.0..1.0f64, any::<bool>(), any::<bool>(), any::<bool>()).prop_map(
+        |(method, count, scheme, lambda, stable, middle, cube)| FocusSettings {
             method,
             splits: SplitSettings {
                 count,
@@ -120,7 +121,8 @@ pub fn settings_strategy() -> impl Strategy<Value = FocusSettings> {
             },
             point: if cube { PointMode::Cube } else { PointMode::Single },
             ..FocusSettings::default()
-        })
+        },
+    )
 }
 
 /// Points of a body: its vertices and a few interior combinations.
@@ -192,17 +194,21 @@ pub fn frame_strategy() -> impl Strategy<Value = (Camera, Aabb, Light)> {
         .prop_map(|((cam, scene, light), k, o)| moved_frame(&cam, &scene, &light, k, o));
     let gamma_zero = (camera_strategy(), scene_strategy(), any::<bool>())
         .prop_map(|(cam, scene, toward)| (cam, scene, Light::directional(if toward { cam.forward } else { -cam.forward }).unwrap()));
-    let in_camera_plane = (axis_camera_strategy(), scene_strategy(), (-60.0..60.0f64, -60.0..60.0f64))
-        .prop_map(|(cam, scene, (a, b))| {
-            // The two axes other than the camera's: the light keeps the
-            // eye's coordinate along the view axis exactly.
-            let k = cam.forward.abs().max_position();
-            let mut l = cam.eye;
-            l[(k + 1) % 3] += a;
-            l[(k + 2) % 3] += b;
-            (cam, scene, Light::point(l).unwrap())
-        });
-    let long_short = (camera_strategy(), scene_strategy(), (0.0..std::f64::consts::TAU, -1.5..1.5f64), prop_oneof![Just(1e200), Just(1e-200), Just(1e300), Just(1e-300)])
+    let in_camera_plane = (axis_camera_strategy(), scene_strategy(), (-60.0..60.0f64, -60.0..60.0f64)).prop_map(|(cam, scene, (a, b))| {
+        // The two axes other than the camera's: the light keeps the
+        // eye's coordinate along the view axis exactly.
+        let k = cam.forward.abs().max_position();
+        let mut l = cam.eye;
+        l[(k + 1) % 3] += a;
+        l[(k + 2) % 3] += b;
+        (cam, scene, Light::point(l).unwrap())
+    });
+    let long_short = (
+        camera_strategy(),
+        scene_strategy(),
+        (0.0..std::f64::consts::TAU, -1.5..1.5f64),
+        prop_oneof![Just(1e200), Just(1e-200), Just(1e300), Just(1e-300)],
+    )
         .prop_map(|(cam, scene, (t, p), k)| (cam, scene, Light::directional(unit(t, p) * k).unwrap()));
     prop_oneof![4 => plain, 3 => moved, 1 => gamma_zero, 1 => in_camera_plane, 1 => long_short]
 }
