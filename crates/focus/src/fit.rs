@@ -347,7 +347,8 @@ fn begin(map: &mut ShadowMap, sv: &SplitView, split: usize, face: Option<CubeFac
     // Nothing is left out near a directional or spot light (a spot's own
     // near plane is part of L); `point_maps` sets a point light's r.
     map.light_near = 0.0;
-    map.flags = 0;
+    map.notes = Notes(0);
+    map.skipped = Skipped(0);
 }
 
 /// `*dst = *src`, writing only the fields of `src`'s kind.
@@ -385,7 +386,17 @@ fn store(map: &mut ShadowMap, sv: &SplitView, f: &Fitted) {
     map.warp_near = r.warp_near;
     map.psm_shift = r.psm_shift;
     map.f32_exact = r.f32_exact;
-    map.flags = (f.warp_vanished as u8) | (f.psm_fell_back as u8) << 1 | (f.stable_ignored as u8) << 2 | (f.warp_limited as u8) << 3;
+    let mut notes = Notes(0);
+    for (set, note) in
+        [(f.psm_fell_back, Notes::PSM_FELL_BACK), (f.stable_ignored, Notes::STABLE_IGNORED), (f.warp_limited, Notes::WARP_LIMITED)]
+    {
+        if set {
+            notes.insert(note);
+        }
+    }
+    map.notes = notes;
+    let warped = matches!(sv.settings.method, Method::Lispsm | Method::Tsm);
+    map.skipped = if f.warp_vanished && warped { Skipped::WARP } else { Skipped(0) };
 }
 
 fn map_fit(sv: &SplitView, light: &Light, f: &Fitted) -> MapFit {
@@ -690,18 +701,8 @@ fn plan(out: &mut FocusResult, settings: &FocusSettings, light: &Light, scene: &
             continue;
         }
         any_shift |= map.psm_shift > 0.0;
-        if map.flags & 1 != 0 && matches!(settings.method, Method::Lispsm | Method::Tsm) {
-            skipped.insert(Skipped::WARP);
-        }
-        if map.flags & 2 != 0 {
-            notes.insert(Notes::PSM_FELL_BACK);
-        }
-        if map.flags & 4 != 0 {
-            notes.insert(Notes::STABLE_IGNORED);
-        }
-        if map.flags & 8 != 0 {
-            notes.insert(Notes::WARP_LIMITED);
-        }
+        notes.insert(map.notes);
+        skipped.insert(map.skipped);
         if map.depth_test == DepthTest::Greater {
             notes.insert(Notes::INVERTED);
         }

@@ -89,6 +89,7 @@ mod predict;
 mod project;
 mod result;
 mod settings;
+mod split_view;
 mod splits;
 
 pub use camera::{camera_from_corners, RecoveredCamera};

@@ -29,8 +29,9 @@
 //! seen. A receiver nearer than a ray's far end favours the warp, so the
 //! choice errs toward the uniform map, never toward a worse warp.
 
-use crate::methods::{post_perspective, SplitView};
 use crate::project::image_area_scale;
+use crate::project::post_perspective;
+use crate::split_view::SplitView;
 use glam::{DMat4, DVec3, DVec4};
 use shadowfocus_geom::Body;
 

@@ -18,7 +18,7 @@ use crate::cone::{cone_axis, least_aligned, turn_into_cone};
 use crate::frame::tangent_frame;
 use crate::hull2::hull_area;
 use glam::{DMat4, DVec2, DVec3, DVec4};
-use shadowfocus_geom::MAX_VERTICES;
+use shadowfocus_geom::{Camera, CameraBasis, MAX_VERTICES};
 
 /// Matrix from its four rows.
 pub(crate) fn from_rows(x: DVec4, y: DVec4, z: DVec4, w: DVec4) -> DMat4 {
@@ -187,6 +187,22 @@ const U64: f64 = f64::EPSILON / 2.0;
 /// Error constant of one clip-space coordinate: entry rounding (u), position
 /// rounding (u) and a 4-term dot product (≤ 4u), with room to spare.
 const K: f64 = 8.0;
+
+/// The camera's post-perspective transform after the virtual shift: eye
+/// moved back by `shift` along −forward, near kept, far grown by the shift.
+/// Symmetric NDC: depth `n ↦ −1`, `f ↦ 1`, infinity `↦ (f + n)/(f − n)`.
+pub(crate) fn post_perspective(cam: &Camera, b: &CameraBasis, shift: f64) -> DMat4 {
+    let eye = cam.eye - b.forward * shift;
+    let (n, fa) = (cam.near, cam.far + shift);
+    let t = (0.5 * cam.fovy).tan();
+    let sx = 1.0 / (cam.aspect * t);
+    let sy = 1.0 / t;
+    let row = |v: DVec3, k: f64| DVec4::new(v.x * k, v.y * k, v.z * k, -v.dot(eye) * k);
+    let rw = row(b.forward, 1.0);
+    let a = (fa + n) / (fa - n);
+    let bb = 2.0 * fa * n / (fa - n);
+    from_rows(row(b.right, sx), row(b.up, sy), rw * a - DVec4::new(0.0, 0.0, 0.0, bb), rw)
+}
 
 /// Centre and half extent of the image box of `pts` under `m`, the half
 /// extent at least 2⁻²⁰ of the overall scale (so that a flat or point body

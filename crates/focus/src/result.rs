@@ -116,9 +116,9 @@ pub struct ShadowMap {
     /// `body_valid` is false).
     pub(crate) body: Body,
     pub(crate) body_valid: bool,
-    /// Bit 0: warp vanished; 1: PSM fell back; 2: stable ignored; 3: warp
-    /// limited by the predicted aliasing.
-    pub(crate) flags: u8,
+    /// This map's share of the frame's notes and skipped work.
+    pub(crate) notes: Notes,
+    pub(crate) skipped: Skipped,
 }
 
 impl ShadowMap {
@@ -140,7 +140,8 @@ impl ShadowMap {
             light: Light::Directional { direction: glam::DVec3::NEG_Y },
             body: Body::new(),
             body_valid: false,
-            flags: 0,
+            notes: Notes(0),
+            skipped: Skipped(0),
         }
     }
 
@@ -163,6 +164,18 @@ impl ShadowMap {
         self.texel_size = [f64::INFINITY; 2];
         self.warp_near = f64::INFINITY;
         self.psm_shift = 0.0;
+    }
+
+    /// Where this map departed from the requested method, and why (the
+    /// frame's [`FocusResult::notes`] are the union over its maps and the
+    /// frame-wide ones).
+    pub fn notes(&self) -> Notes {
+        self.notes
+    }
+
+    /// Work this map did not need ([`Skipped::WARP`]: its warp vanished).
+    pub fn skipped(&self) -> Skipped {
+        self.skipped
     }
 
     pub fn is_active(&self) -> bool {
