@@ -31,6 +31,7 @@ mod scenes;
 pub mod testfit;
 mod timer;
 mod types;
+mod uniforms;
 
 pub use error::RenderError;
 pub use gltf_scene::{default_camera, default_light, load_gltf, load_scene, GltfReport};

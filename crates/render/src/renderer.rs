@@ -14,6 +14,7 @@ use crate::metrics::{self, RenderMetrics};
 use crate::scene::{Scene, Vertex};
 use crate::timer::{PhaseTimer, MAIN_PHASE, SHADOW_PHASE};
 use crate::types::{validate_maps, CameraSpec, DepthMode, DepthTest, LightSpec, Pcf, RenderSettings, ShadowMapSpec, MAX_MAPS};
+use crate::uniforms::{self, BlurUniform, CompositeUniform, FrameUniform, MapInfo, ShadowUniform};
 
 /// One frame to render.
 #[derive(Clone, Debug)]
@@ -96,50 +97,6 @@ pub struct RenderOutput {
 /// For many frames keep a [`Renderer`] instead (opening an adapter takes tens of milliseconds).
 pub fn render_scene(req: &RenderRequest) -> Result<RenderOutput, RenderError> {
     Renderer::from_env()?.render(req)
-}
-
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct ShadowUniform {
-    world_to_clip: [f32; 16],
-    lin_a: [f32; 4],
-    lin_b: [f32; 4],
-}
-
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct MapInfo {
-    world_to_clip: [f32; 16],
-    split: [f32; 4],
-}
-
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct FrameUniform {
-    view_proj: [f32; 16],
-    eye: [f32; 4],
-    forward: [f32; 4],
-    cam: [f32; 4],
-    lin_a: [f32; 4],
-    lin_b: [f32; 4],
-    params: [f32; 4],
-    params2: [f32; 4],
-    maps: [MapInfo; MAX_MAPS],
-}
-
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct BlurUniform {
-    a: [f32; 4],
-    b: [f32; 4],
-}
-
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct CompositeUniform {
-    spot: [f32; 16],
-    light: [f32; 4],
-    flags: [f32; 4],
 }
 
 /// Uniform offsets must be multiples of this on every backend.
@@ -415,15 +372,15 @@ impl Renderer {
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let shadow_module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("shadow.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("shaders/shadow.wgsl").into()),
+            source: wgpu::ShaderSource::Wgsl(uniforms::SHADOW_WGSL.into()),
         });
         let scene_module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("scene.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("shaders/scene.wgsl").into()),
+            source: wgpu::ShaderSource::Wgsl(uniforms::scene_wgsl().into()),
         });
         let post_module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("post.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("shaders/post.wgsl").into()),
+            source: wgpu::ShaderSource::Wgsl(uniforms::POST_WGSL.into()),
         });
 
         let shadow_bgl =

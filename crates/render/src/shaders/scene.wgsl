@@ -1,6 +1,7 @@
 // Main pass: G-buffer with world position, normal, albedo, shadow term, aliasing and chosen split.
 
-const MAX_MAPS: u32 = 16u;
+// MAX_MAPS (the most maps a frame holds) is defined by the renderer from
+// the crate's `MAX_MAPS` (`uniforms::scene_wgsl`).
 
 struct MapInfo {
     world_to_clip: mat4x4<f32>,
