@@ -18,12 +18,14 @@
 
 mod error;
 mod font;
+mod frame;
 mod gltf_scene;
 mod gpu;
 mod ground_truth;
 mod image;
 mod metrics;
 mod output;
+mod passes;
 mod renderer;
 mod resolved;
 mod scene;
@@ -34,13 +36,14 @@ mod types;
 mod uniforms;
 
 pub use error::RenderError;
+pub use frame::{DepthMap, RenderOutput, RenderRequest};
 pub use gltf_scene::{default_camera, default_light, load_gltf, load_scene, GltfReport};
 pub use gpu::{AdapterSummary, BackendChoice, BACKEND_ENV};
 pub use ground_truth::{GroundTruth, Visibility};
 pub use image::{aliasing_color, aliasing_heatmap, contact_sheet, depth_image, mismatch_image, Image, PixelMatch, HEAT_UNLIT_VALUE};
 pub use metrics::{pixel_matches, AliasingStats, CasterStats, CoverageStats, MismatchStats, RenderMetrics, ADEQUATE_ALIASING};
 pub use output::{aliasing_image, caption, metrics_json, mismatch_view, shadow_map_images, write_outputs};
-pub use renderer::{render_scene, DepthMap, RenderOutput, RenderRequest, Renderer};
+pub use renderer::{render_scene, Renderer};
 pub use scene::{Scene, SceneObject, Vertex};
 pub use scenes::{builtin_scene, BUILTIN_SCENES};
 pub use types::{Bounds, CameraSpec, DepthMode, DepthTest, EyeBlur, LightSpec, Pcf, RenderSettings, ShadowMapSpec, MAX_MAPS};

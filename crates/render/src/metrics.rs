@@ -3,10 +3,10 @@
 use glam::DVec3;
 use serde::Serialize;
 
+use crate::frame::{RenderOutput, RenderRequest};
 use crate::gpu::AdapterSummary;
 use crate::ground_truth::Visibility;
 use crate::image::PixelMatch;
-use crate::renderer::{RenderOutput, RenderRequest};
 use crate::resolved::resolved_mask;
 use crate::types::RenderSettings;
 

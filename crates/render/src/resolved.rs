@@ -19,8 +19,8 @@
 
 use glam::{DMat4, DVec3, DVec4};
 
+use crate::frame::RenderOutput;
 use crate::ground_truth::{GroundTruth, Visibility};
-use crate::renderer::RenderOutput;
 use crate::types::{Pcf, RenderSettings, ShadowMapSpec};
 
 /// Texel centres read by one lookup at most: a kernel of radius 16 (`RenderSettings::validate`

@@ -7,7 +7,7 @@
 
 use crate::error::RenderError;
 use crate::gpu::Gpu;
-use crate::renderer::Readback;
+use crate::passes::readback::Readback;
 
 /// First query slot of the shadow phase (start, end).
 pub(crate) const SHADOW_PHASE: u32 = 0;

@@ -1,0 +1,85 @@
+//! One frame: what is asked for ([`RenderRequest`]) and what comes back ([`RenderOutput`]).
+
+use crate::error::RenderError;
+use crate::ground_truth::Visibility;
+use crate::image::Image;
+use crate::metrics::RenderMetrics;
+use crate::scene::Scene;
+use crate::types::{validate_maps, CameraSpec, LightSpec, RenderSettings, ShadowMapSpec};
+
+/// One frame to render.
+#[derive(Clone, Debug)]
+pub struct RenderRequest<'a> {
+    pub scene: &'a Scene,
+    pub camera: CameraSpec,
+    pub light: LightSpec,
+    pub maps: &'a [ShadowMapSpec],
+    /// Per map (in `maps` order), the fraction of the map's area that its focus body's projection
+    /// covers (`shadowfocus_focus::ShadowMap::utilisation`), when the caller knows it: reported in
+    /// the metrics. Empty when unknown; otherwise one value per map.
+    pub utilisation: &'a [f64],
+    pub settings: RenderSettings,
+}
+
+impl<'a> RenderRequest<'a> {
+    /// The scene's own camera and light with default settings.
+    pub fn new(scene: &'a Scene, maps: &'a [ShadowMapSpec]) -> RenderRequest<'a> {
+        RenderRequest { scene, camera: scene.camera, light: scene.light, maps, utilisation: &[], settings: RenderSettings::default() }
+    }
+
+    pub fn aspect(&self) -> f64 {
+        self.settings.width as f64 / self.settings.height as f64
+    }
+
+    pub fn validate(&self) -> Result<(), RenderError> {
+        self.settings.validate()?;
+        self.camera.validate()?;
+        self.light.validate()?;
+        validate_maps(self.maps, self.scene.objects.len())?;
+        if !self.utilisation.is_empty() && self.utilisation.len() != self.maps.len() {
+            return Err(RenderError::invalid("map utilisation", format!("{} values for {} maps", self.utilisation.len(), self.maps.len())));
+        }
+        if let Some(u) = self.utilisation.iter().find(|u| !(0.0..=1.0).contains(*u)) {
+            return Err(RenderError::invalid("map utilisation", format!("{u} is not within [0, 1]")));
+        }
+        Ok(())
+    }
+}
+
+/// A shadow map as read back: `resolution²` depths, rows top to bottom; NaN where no caster
+/// was drawn. Depths are the rasterised values before bias (or the linear depth in linear mode).
+#[derive(Clone, Debug)]
+pub struct DepthMap {
+    pub resolution: u32,
+    pub depth: Vec<f32>,
+    /// True for `DepthTest::Greater` maps in projective mode, which are stored as 1 − z so that
+    /// every layer is compared with "less" (GL allows one comparison sampler per texture).
+    pub reversed: bool,
+}
+
+/// Everything a render produced, per pixel (rows top to bottom) and summarised.
+#[derive(Clone, Debug)]
+pub struct RenderOutput {
+    pub width: u32,
+    pub height: u32,
+    /// The lit image.
+    pub color: Image,
+    /// xyz = world position; w = 1 receiver, 2 other geometry, 0 background.
+    pub world: Vec<[f32; 4]>,
+    /// Camera-facing unit normal (xyz).
+    pub normal: Vec<[f32; 4]>,
+    /// Screen pixels per shadow texel; < 0 where no map covers the pixel, NaN on background.
+    pub aliasing: Vec<f32>,
+    /// Index of the map each pixel used; −1 none (or background).
+    pub split: Vec<i32>,
+    /// Final shadow term in [0, 1] (after the optional blur); 1 = lit.
+    pub shadow: Vec<f32>,
+    /// Ray-cast ground truth, when requested.
+    pub truth: Option<Vec<Visibility>>,
+    /// The shadow maps, when `save_shadow_maps` was set.
+    pub shadow_maps: Vec<DepthMap>,
+    /// The camera and light the frame was rendered with.
+    pub camera: CameraSpec,
+    pub light: LightSpec,
+    pub metrics: RenderMetrics,
+}
