@@ -4,77 +4,12 @@
 //! use) — so no font files or system libraries are needed.
 
 use crate::plot::{Layout, Point, MARGIN, SIZE};
+use shadowfocus_raster::{font, png};
 
 const WHITE: [u8; 3] = [255, 255, 255];
 const BLACK: [u8; 3] = [0, 0, 0];
 const GRID: [u8; 3] = [0xdd, 0xdd, 0xdd];
 const FRAME: [u8; 3] = [0x44, 0x44, 0x44];
-
-/// 5×7 glyphs: seven rows of five cells ('#' set), top row first.
-const GLYPHS: &[(char, [&str; 7])] = &[
-    ('A', [".###.", "#...#", "#...#", "#####", "#...#", "#...#", "#...#"]),
-    ('B', ["####.", "#...#", "#...#", "####.", "#...#", "#...#", "####."]),
-    ('C', [".###.", "#...#", "#....", "#....", "#....", "#...#", ".###."]),
-    ('D', ["####.", "#...#", "#...#", "#...#", "#...#", "#...#", "####."]),
-    ('E', ["#####", "#....", "#....", "####.", "#....", "#....", "#####"]),
-    ('F', ["#####", "#....", "#....", "####.", "#....", "#....", "#...."]),
-    ('G', [".###.", "#...#", "#....", "#.###", "#...#", "#...#", ".####"]),
-    ('H', ["#...#", "#...#", "#...#", "#####", "#...#", "#...#", "#...#"]),
-    ('I', [".###.", "..#..", "..#..", "..#..", "..#..", "..#..", ".###."]),
-    ('J', ["..###", "...#.", "...#.", "...#.", "...#.", "#..#.", ".##.."]),
-    ('K', ["#...#", "#..#.", "#.#..", "##...", "#.#..", "#..#.", "#...#"]),
-    ('L', ["#....", "#....", "#....", "#....", "#....", "#....", "#####"]),
-    ('M', ["#...#", "##.##", "#.#.#", "#.#.#", "#...#", "#...#", "#...#"]),
-    ('N', ["#...#", "#...#", "##..#", "#.#.#", "#..##", "#...#", "#...#"]),
-    ('O', [".###.", "#...#", "#...#", "#...#", "#...#", "#...#", ".###."]),
-    ('P', ["####.", "#...#", "#...#", "####.", "#....", "#....", "#...."]),
-    ('Q', [".###.", "#...#", "#...#", "#...#", "#.#.#", "#..#.", ".##.#"]),
-    ('R', ["####.", "#...#", "#...#", "####.", "#.#..", "#..#.", "#...#"]),
-    ('S', [".####", "#....", "#....", ".###.", "....#", "....#", "####."]),
-    ('T', ["#####", "..#..", "..#..", "..#..", "..#..", "..#..", "..#.."]),
-    ('U', ["#...#", "#...#", "#...#", "#...#", "#...#", "#...#", ".###."]),
-    ('V', ["#...#", "#...#", "#...#", "#...#", "#...#", ".#.#.", "..#.."]),
-    ('W', ["#...#", "#...#", "#...#", "#.#.#", "#.#.#", "#.#.#", ".#.#."]),
-    ('X', ["#...#", "#...#", ".#.#.", "..#..", ".#.#.", "#...#", "#...#"]),
-    ('Y', ["#...#", "#...#", ".#.#.", "..#..", "..#..", "..#..", "..#.."]),
-    ('Z', ["#####", "....#", "...#.", "..#..", ".#...", "#....", "#####"]),
-    ('0', [".###.", "#...#", "#..##", "#.#.#", "##..#", "#...#", ".###."]),
-    ('1', ["..#..", ".##..", "..#..", "..#..", "..#..", "..#..", ".###."]),
-    ('2', [".###.", "#...#", "....#", "...#.", "..#..", ".#...", "#####"]),
-    ('3', ["####.", "....#", "....#", ".###.", "....#", "....#", "####."]),
-    ('4', ["...#.", "..##.", ".#.#.", "#..#.", "#####", "...#.", "...#."]),
-    ('5', ["#####", "#....", "####.", "....#", "....#", "#...#", ".###."]),
-    ('6', [".###.", "#....", "#....", "####.", "#...#", "#...#", ".###."]),
-    ('7', ["#####", "....#", "...#.", "..#..", ".#...", ".#...", ".#..."]),
-    ('8', [".###.", "#...#", "#...#", ".###.", "#...#", "#...#", ".###."]),
-    ('9', [".###.", "#...#", "#...#", ".####", "....#", "....#", ".###."]),
-    (' ', [".....", ".....", ".....", ".....", ".....", ".....", "....."]),
-    ('.', [".....", ".....", ".....", ".....", ".....", ".##..", ".##.."]),
-    (',', [".....", ".....", ".....", ".....", ".##..", "..#..", ".#..."]),
-    (':', [".....", ".##..", ".##..", ".....", ".##..", ".##..", "....."]),
-    ('-', [".....", ".....", ".....", "#####", ".....", ".....", "....."]),
-    ('+', [".....", "..#..", "..#..", "#####", "..#..", "..#..", "....."]),
-    ('(', ["...#.", "..#..", ".#...", ".#...", ".#...", "..#..", "...#."]),
-    (')', [".#...", "..#..", "...#.", "...#.", "...#.", "..#..", ".#..."]),
-    ('/', [".....", "....#", "...#.", "..#..", ".#...", "#....", "....."]),
-    ('@', [".###.", "#...#", "#.###", "#.#.#", "#.###", "#....", ".###."]),
-    ('%', ["##..#", "##..#", "...#.", "..#..", ".#...", "#..##", "#..##"]),
-    ('=', [".....", ".....", "#####", ".....", "#####", ".....", "....."]),
-    ('_', [".....", ".....", ".....", ".....", ".....", ".....", "#####"]),
-    ('²', [".##..", "...#.", "..#..", ".###.", ".....", ".....", "....."]),
-    ('µ', [".....", "#...#", "#...#", "#...#", "#..##", "###.#", "#...."]),
-    ('×', [".....", "#...#", ".#.#.", "..#..", ".#.#.", "#...#", "....."]),
-];
-
-/// The rows of a glyph as bit masks (bit 4 = leftmost column); lower case
-/// is drawn as upper case, anything else as an empty box.
-fn glyph(c: char) -> [u8; 7] {
-    let c = c.to_ascii_uppercase();
-    let Some((_, cells)) = GLYPHS.iter().find(|(g, _)| *g == c) else {
-        return [0b11111, 0b10001, 0b10001, 0b10001, 0b10001, 0b10001, 0b11111];
-    };
-    cells.map(|row| row.bytes().fold(0u8, |bits, cell| (bits << 1) | u8::from(cell == b'#')))
-}
 
 /// An RGB image.
 pub struct Canvas {
@@ -144,7 +79,7 @@ impl Canvas {
 
     /// Width in pixels of `text` at `scale`.
     pub fn text_width(text: &str, scale: u32) -> f64 {
-        (text.chars().count() as u32 * 6 * scale) as f64
+        font::text_width(text, scale) as f64
     }
 
     /// Text with its baseline-ish bottom at `y`; `vertical` writes it
@@ -156,39 +91,18 @@ impl Canvas {
             Anchor::Middle => -w / 2.0,
             Anchor::End => -w,
         };
-        let s = scale as i64;
-        for (k, ch) in text.chars().enumerate() {
-            let rows = glyph(ch);
-            let along = (start + (k as u32 * 6 * scale) as f64).round() as i64;
-            for (row, bits) in rows.iter().enumerate() {
-                for col in 0..5i64 {
-                    if bits & (1 << (4 - col)) == 0 {
-                        continue;
-                    }
-                    for dy in 0..s {
-                        for dx in 0..s {
-                            // (u, v): along the text, and down from its top.
-                            let (u, v) = (along + col * s + dx, row as i64 * s + dy - 7 * s);
-                            let (px, py) = if vertical { (x as i64 + v, y as i64 - u) } else { (x as i64 + u, y as i64 + v) };
-                            self.set(px, py, c);
-                        }
-                    }
-                }
-            }
-        }
+        let (start, top) = (start.round() as i64, 7 * scale as i64);
+        font::rasterize(text, scale, |u, v| {
+            // (u, v): along the text, and down from its top.
+            let (u, v) = (start + u, v - top);
+            let (px, py) = if vertical { (x as i64 + v, y as i64 - u) } else { (x as i64 + u, y as i64 + v) };
+            self.set(px, py, c);
+        });
     }
 
     /// PNG bytes (8-bit RGB).
     pub fn encode_png(&self) -> Result<Vec<u8>, String> {
-        let mut out = Vec::new();
-        {
-            let mut enc = png::Encoder::new(&mut out, self.width, self.height);
-            enc.set_color(png::ColorType::Rgb);
-            enc.set_depth(png::BitDepth::Eight);
-            let mut w = enc.write_header().map_err(|e| e.to_string())?;
-            w.write_image_data(&self.rgb).map_err(|e| e.to_string())?;
-        }
-        Ok(out)
+        png::encode(self.width, self.height, png::Layout::Rgb, &self.rgb)
     }
 }
 
@@ -245,17 +159,6 @@ mod tests {
     use super::*;
 
     #[test]
-    fn every_glyph_is_seven_rows_of_five() {
-        for (c, rows) in GLYPHS {
-            assert!(rows.iter().all(|r| r.len() == 5 && r.bytes().all(|x| x == b'#' || x == b'.')), "glyph {c:?}");
-        }
-        assert_eq!(glyph('L'), [0b10000, 0b10000, 0b10000, 0b10000, 0b10000, 0b10000, 0b11111]);
-        assert_eq!(glyph('a'), glyph('A'));
-        assert_ne!(glyph('O'), glyph('0'));
-        assert_eq!(glyph('~')[0], 0b11111, "unknown characters are boxes");
-    }
-
-    #[test]
     fn points_and_text_land_where_the_layout_puts_them() {
         let p = |x, y, s: &str| Point { x, y, series: s.into(), label: String::new() };
         let pts = [p(2.0, 3.0, "a"), p(50.0, 0.5, "b")];
@@ -274,11 +177,9 @@ mod tests {
     fn png_decodes_back_to_the_canvas() {
         let c = scatter_canvas("round trip", "x", "y", &[Point { x: 1.5, y: 2.5, series: "s".into(), label: String::new() }]);
         let bytes = c.encode_png().unwrap();
-        let dec = png::Decoder::new(std::io::Cursor::new(bytes));
-        let mut reader = dec.read_info().unwrap();
-        let mut buf = vec![0; reader.output_buffer_size()];
-        let info = reader.next_frame(&mut buf).unwrap();
-        assert_eq!((info.width, info.height), (c.width, c.height));
-        assert_eq!(&buf[..info.buffer_size()], &c.rgb[..]);
+        let (w, h, rgba) = png::decode_rgba(&bytes).unwrap();
+        assert_eq!((w, h), (c.width, c.height));
+        let rgb: Vec<u8> = rgba.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
+        assert_eq!(rgb, c.rgb);
     }
 }

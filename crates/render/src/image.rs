@@ -1,10 +1,9 @@
 //! RGBA8 images: PNG output, labels, heatmaps, depth views and contact sheets.
 
-use std::io::BufWriter;
 use std::path::Path;
 
 use crate::error::RenderError;
-use crate::font;
+use shadowfocus_raster::{font, png};
 
 /// An 8-bit RGBA image, rows top to bottom.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -45,7 +44,7 @@ impl Image {
 
     /// Draws `text` with its top-left corner at (x, y).
     pub fn text(&mut self, x: i64, y: i64, text: &str, scale: u32, c: [u8; 4]) {
-        font::rasterize(text, x, y, scale, |px, py| self.put(px, py, c));
+        font::rasterize(text, scale, |u, v| self.put(x + u, y + v, c));
     }
 
     /// Copies `src` with its top-left corner at (x, y), clipped.
@@ -86,37 +85,15 @@ impl Image {
     }
 
     pub fn save_png(&self, path: &Path) -> Result<(), RenderError> {
-        let file = std::fs::File::create(path).map_err(|source| RenderError::Io { path: path.to_path_buf(), source })?;
-        let mut enc = png::Encoder::new(BufWriter::new(file), self.width, self.height);
-        enc.set_color(png::ColorType::Rgba);
-        enc.set_depth(png::BitDepth::Eight);
-        let png_err = |e: png::EncodingError| RenderError::Png { path: path.to_path_buf(), reason: e.to_string() };
-        let mut w = enc.write_header().map_err(png_err)?;
-        w.write_image_data(&self.rgba).map_err(png_err)?;
-        w.finish().map_err(png_err)
+        let bytes = png::encode(self.width, self.height, png::Layout::Rgba, &self.rgba)
+            .map_err(|reason| RenderError::Png { path: path.to_path_buf(), reason })?;
+        std::fs::write(path, bytes).map_err(|source| RenderError::Io { path: path.to_path_buf(), source })
     }
 
     pub fn load_png(path: &Path) -> Result<Image, RenderError> {
-        let file = std::fs::File::open(path).map_err(|source| RenderError::Io { path: path.to_path_buf(), source })?;
-        let mut dec = png::Decoder::new(std::io::BufReader::new(file));
-        dec.set_transformations(png::Transformations::EXPAND);
-        let err = |e: png::DecodingError| RenderError::Png { path: path.to_path_buf(), reason: e.to_string() };
-        let mut reader = dec.read_info().map_err(err)?;
-        let mut buf = vec![0; reader.output_buffer_size()];
-        let info = reader.next_frame(&mut buf).map_err(err)?;
-        buf.truncate(info.buffer_size());
-        let n = (info.width * info.height) as usize;
-        let rgba = match info.color_type {
-            png::ColorType::Rgba => buf,
-            png::ColorType::Rgb => buf.chunks_exact(3).flat_map(|p| [p[0], p[1], p[2], 255]).collect(),
-            png::ColorType::Grayscale => buf.iter().flat_map(|&g| [g, g, g, 255]).collect(),
-            png::ColorType::GrayscaleAlpha => buf.chunks_exact(2).flat_map(|p| [p[0], p[0], p[0], p[1]]).collect(),
-            other => return Err(RenderError::Png { path: path.to_path_buf(), reason: format!("unsupported colour type {other:?}") }),
-        };
-        if rgba.len() != n * 4 || info.bit_depth != png::BitDepth::Eight {
-            return Err(RenderError::Png { path: path.to_path_buf(), reason: "only 8-bit images are supported".into() });
-        }
-        Ok(Image { width: info.width, height: info.height, rgba })
+        let bytes = std::fs::read(path).map_err(|source| RenderError::Io { path: path.to_path_buf(), source })?;
+        let (width, height, rgba) = png::decode_rgba(&bytes).map_err(|reason| RenderError::Png { path: path.to_path_buf(), reason })?;
+        Ok(Image { width, height, rgba })
     }
 }
 

@@ -17,7 +17,6 @@
 //! ```
 
 mod error;
-mod font;
 mod frame;
 mod gltf_scene;
 mod gpu;
