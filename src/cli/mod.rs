@@ -3,7 +3,7 @@
 
 pub mod bench;
 pub mod body;
-pub mod case;
+pub use shadowfocus_case as case;
 pub mod fit;
 pub mod overrides;
 pub mod render;

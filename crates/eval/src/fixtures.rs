@@ -5,6 +5,7 @@
 use crate::naive::{naive_body, NaiveBody, NaiveLight};
 use glam::DVec3;
 use serde_json::Value;
+use shadowfocus_case::parse_case;
 use shadowfocus_geom::{focus_body, Aabb, Frustum, Light};
 use std::path::Path;
 
@@ -45,18 +46,6 @@ fn vec3(v: &Value) -> Option<DVec3> {
     Some(DVec3::new(a[0].as_f64()?, a[1].as_f64()?, a[2].as_f64()?))
 }
 
-fn corners(v: &Value) -> Option<[DVec3; 8]> {
-    let a = v.as_array()?;
-    if a.len() != 8 {
-        return None;
-    }
-    let mut c = [DVec3::ZERO; 8];
-    for (i, p) in a.iter().enumerate() {
-        c[i] = vec3(p)?;
-    }
-    Some(c)
-}
-
 fn magnitude(v: &Value) -> f64 {
     match v {
         Value::Number(n) => n.as_f64().map_or(0.0, f64::abs),
@@ -80,25 +69,22 @@ pub struct FixtureCase {
     naive: Option<NaiveLight>,
 }
 
-fn parse(case: &Value, expected: &Value) -> Option<FixtureCase> {
-    let view = corners(&case["view"]["corners"])?;
-    let l = &case["light"];
-    let (light, naive) = if let Some(d) = vec3(&l["directional"]) {
-        (Light::directional(d).ok()?, Some(NaiveLight::Directional(d)))
-    } else if let Some(p) = vec3(&l["point"]) {
-        (Light::point(p).ok()?, Some(NaiveLight::Point(p)))
-    } else {
-        let s = &l["spot"];
-        let f = Frustum::from_corners(corners(&s["corners"])?).ok()?;
-        (Light::spot(vec3(&s["position"])?, f).ok()?, None)
+fn parse(line: &str, expected: &Value) -> Option<FixtureCase> {
+    let case = parse_case(line).ok()?;
+    let raw: Value = serde_json::from_str(line).ok()?;
+    // The fixtures give the view as corners: a camera-form view is not one of them.
+    raw["view"].get("corners")?;
+    let naive = match case.light {
+        Light::Directional { direction } => Some(NaiveLight::Directional(direction)),
+        Light::Point { position } => Some(NaiveLight::Point(position)),
+        Light::Spot { .. } => None,
     };
-    let scene = Aabb::new(vec3(&case["scene"]["min"])?, vec3(&case["scene"]["max"])?).ok()?;
     Some(FixtureCase {
-        id: case["id"].as_str().unwrap_or("").to_string(),
-        view,
-        light,
-        scene,
-        magnitude: magnitude(case).max(f64::MIN_POSITIVE),
+        id: case.id.as_str().unwrap_or("").to_string(),
+        view: *case.view.corners(),
+        light: case.light,
+        scene: case.scene,
+        magnitude: magnitude(&raw).max(f64::MIN_POSITIVE),
         expected_dimension: expected["dimension"].as_i64().unwrap_or(-2) as i32,
         expected_vertices: expected["vertices"].as_array().map(|a| a.iter().filter_map(vec3).collect()).unwrap_or_default(),
         naive,
@@ -114,10 +100,7 @@ pub fn read_file(dir: &Path, name: &str) -> Result<(Vec<FixtureCase>, usize), St
     let mut out = Vec::new();
     let mut skipped = 0;
     for (cl, el) in cases.lines().zip(expected.lines()) {
-        let parsed = match (serde_json::from_str::<Value>(cl), serde_json::from_str::<Value>(el)) {
-            (Ok(cv), Ok(ev)) => parse(&cv, &ev),
-            _ => None,
-        };
+        let parsed = serde_json::from_str::<Value>(el).ok().and_then(|ev| parse(cl, &ev));
         match parsed {
             Some(c) => out.push(c),
             None => skipped += 1,

@@ -13,30 +13,16 @@ mod common;
 use common::*;
 use glam::DVec3;
 use serde_json::Value;
+use shadowfocus_case::parse_case;
 use shadowfocus_focus::*;
-use shadowfocus_geom::{Aabb, Frustum, Light};
+use shadowfocus_geom::Light;
 use std::collections::HashMap;
 use std::path::PathBuf;
 
+/// An expected vertex `[x, y, z]`.
 fn v3(v: &Value) -> DVec3 {
     let a = v.as_array().unwrap();
     DVec3::new(a[0].as_f64().unwrap(), a[1].as_f64().unwrap(), a[2].as_f64().unwrap())
-}
-
-fn corners(v: &Value) -> [DVec3; 8] {
-    let a = v.as_array().unwrap();
-    std::array::from_fn(|i| v3(&a[i]))
-}
-
-fn light(v: &Value) -> Option<Light> {
-    if let Some(d) = v.get("directional") {
-        return Light::directional(v3(d)).ok();
-    }
-    if let Some(p) = v.get("point") {
-        return Light::point(v3(p)).ok();
-    }
-    let s = v.get("spot")?;
-    Light::spot(v3(&s["position"]), Frustum::from_corners(corners(&s["corners"])).ok()?).ok()
 }
 
 #[test]
@@ -65,13 +51,13 @@ fn fixture_cases_are_contained() {
             if k % stride != 0 {
                 continue;
             }
-            let case: Value = serde_json::from_str(line).unwrap();
-            let id = case["id"].as_str().unwrap().to_string();
-            let (Some(light), Ok(scene)) = (light(&case["light"]), Aabb::new(v3(&case["scene"]["min"]), v3(&case["scene"]["max"]))) else {
+            let Ok(case) = parse_case(line) else {
                 invalid += 1;
                 continue;
             };
-            let c = corners(&case["view"]["corners"]);
+            let id = case.id.as_str().unwrap().to_string();
+            let (light, scene, view) = (case.light, case.scene, case.view);
+            let c = *view.corners();
             let Ok(rec) = camera_from_corners(&c) else {
                 invalid += 1;
                 continue;
@@ -87,7 +73,6 @@ fn fixture_cases_are_contained() {
             };
             // The bodies come from exactly the given corners; the recovered
             // camera only chooses the parameterisation and the splits.
-            let view = Frustum::from_corners(c).unwrap();
             fit_frustum(&view, &rec.camera, &light, &scene, &s, &mut out).unwrap_or_else(|e| panic!("{id}: {e}"));
             for m in out.maps().iter().filter(|m| m.is_active()) {
                 for p in m.body().vertices() {

@@ -7,7 +7,7 @@
 use criterion::measurement::WallTime;
 use criterion::{criterion_group, criterion_main, BenchmarkGroup, Criterion, Throughput};
 use glam::DVec3;
-use serde_json::Value;
+use shadowfocus_case::parse_case;
 use shadowfocus_geom::{focus_body_exact_into, focus_body_into, focus_body_into_without_skip, Aabb, Body, Frustum, GeomError, Light};
 use std::hint::black_box;
 use std::path::Path;
@@ -19,34 +19,14 @@ struct Case {
     scene: Aabb,
 }
 
-fn v3(v: &Value) -> DVec3 {
-    DVec3::new(v[0].as_f64().unwrap(), v[1].as_f64().unwrap(), v[2].as_f64().unwrap())
-}
-
-fn corners(v: &Value) -> [DVec3; 8] {
-    let a = v.as_array().unwrap();
-    std::array::from_fn(|i| v3(&a[i]))
-}
-
 /// Reads the corners-form fixture cases of one file (all of them are).
 fn load(name: &str) -> Vec<Case> {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/cases").join(format!("{name}.jsonl"));
     let text = std::fs::read_to_string(path).unwrap();
     text.lines()
         .filter_map(|line| {
-            let j: Value = serde_json::from_str(line).ok()?;
-            let c = corners(&j["view"]["corners"]);
-            let l = &j["light"];
-            let light = if let Some(d) = l.get("directional") {
-                Light::directional(v3(d)).ok()?
-            } else if let Some(p) = l.get("point") {
-                Light::point(v3(p)).ok()?
-            } else {
-                let s = &l["spot"];
-                Light::spot(v3(&s["position"]), Frustum::from_corners(corners(&s["corners"])).ok()?).ok()?
-            };
-            let scene = Aabb::new(v3(&j["scene"]["min"]), v3(&j["scene"]["max"])).ok()?;
-            Some(Case { corners: c, view: Frustum::from_corners(c).ok()?, light, scene })
+            let c = parse_case(line).ok()?;
+            Some(Case { corners: *c.view.corners(), view: c.view, light: c.light, scene: c.scene })
         })
         .collect()
 }

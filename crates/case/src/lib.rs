@@ -1,4 +1,5 @@
-//! The JSON-lines case format shared by `shadowfocus body` and `shadowfocus fit`.
+//! The JSON-lines case format (a view, a light, a scene box per line) that the command line,
+//! the evaluation harness, the tests, the fuzz targets and the benches all read.
 //!
 //! ```text
 //! {"id": "c1",
