@@ -29,29 +29,9 @@ const CONE_MARGIN: f64 = 1.0 / (1u64 << 20) as f64;
 /// [`fit_prepared`] give the same maps with the camera's work done once.
 pub fn fit(camera: &Camera, light: &Light, scene: &Aabb, settings: &FocusSettings, out: &mut FocusResult) -> Result<(), FocusError> {
     out.clear();
-    settings.validate()?;
-    let basis = camera.basis()?;
-    let scene = Aabb::new(scene.min, scene.max)?;
-    light.validate()?;
-    let cam = visible_range(camera, settings)?;
-    let mut depths = [0.0; MAX_SPLITS + 1];
-    let m = split_depths(cam.near, cam.far, &settings.splits, &mut depths);
-    out.set_splits(&depths, m);
-    for i in 0..m {
-        let (z0, z1) = (depths[i], depths[i + 1]);
-        if !(z0 < z1) {
-            empty_split(out, light, i, [z0, z1])?;
-            continue;
-        }
-        let sub = Camera { near: z0, far: z1, ..cam };
-        // NOTE: borrowed from a temporary rather than stored (a frustum is
-        // ~900 bytes, and only one split's is needed at a time).
-        let view = &Frustum::from_camera_in(&sub, &basis);
-        let view = view.as_ref().map_err(|e| e.clone())?;
-        fit_split(out, &SplitView { camera: &sub, basis, settings }, view, light, &scene, i)?;
-    }
-    plan(out, settings, light, &scene);
-    Ok(())
+    let mut view = PreparedView::unprepared(camera, settings);
+    view.prepare(camera, settings)?;
+    fit_prepared(&view, light, scene, out)
 }
 
 /// The camera's side of a frame, prepared once and shared by every light
