@@ -3,8 +3,8 @@
 use crate::certified::{CertifiedClipper, Step};
 use crate::error::{check_finite, GeomError};
 use crate::frustum::{Apex, Frustum, HullOutline, PlaneSet};
+use crate::limits::{MAX_FACES, MAX_FACE_INDICES, MAX_VERTICES};
 use crate::polytope::Polytope;
-use crate::{MAX_FACES, MAX_FACE_INDICES, MAX_VERTICES};
 use glam::{DVec3, DVec4};
 
 /// A closed axis-aligned box; zero thickness on any axis is allowed.

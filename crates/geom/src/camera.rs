@@ -125,7 +125,7 @@ fn exactly_parallel(a: DVec3, b: DVec3) -> bool {
     // the rounded sum (which covers that sum's own rounding) and 1e-300;
     // beyond it the exact component is nonzero. An infinite bound proves
     // nothing (NaN compares false).
-    let (c, perm) = (a.cross(b), crate::frustum::abs_cross(a, b));
+    let (c, perm) = (a.cross(b), crate::number::abs_cross(a, b));
     let bound = perm * (3.0 * f64::EPSILON) + DVec3::splat(1e-300);
     if c.abs().cmpgt(bound).any() {
         return false;

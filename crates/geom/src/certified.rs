@@ -49,11 +49,11 @@
 
 use crate::body::{Aabb, Body};
 use crate::fixed::{meet, Meeting};
-use crate::frustum::{abs_cross, corner_bits, creased_pair, Apex, Frustum, HullOutline, Origin};
-use crate::number::Exact;
+use crate::frustum::{corner_bits, creased_pair, Apex, Frustum, HullOutline, Origin};
+use crate::limits::{MAX_FACE_INDICES, MAX_VERTICES};
+use crate::number::{abs_cross, Exact};
 use crate::plane::{intersect3, Plane};
 use crate::polytope::{point_side, ROUNDING_ULPS};
-use crate::{MAX_FACE_INDICES, MAX_VERTICES};
 use glam::{DMat3, DVec3, DVec4};
 
 /// Unit roundoff.

@@ -27,7 +27,7 @@
 
 use crate::number::{cross, dot, scale_pow2, Ring};
 use crate::plane::{intersect3, Plane};
-use glam::DVec3;
+use glam::{DVec3, DVec4};
 
 /// Largest exponent spread between one axis's values (see the bit budget).
 const MAX_SPREAD: i32 = 32;
@@ -361,6 +361,55 @@ impl Ring for Fixed {
 
     fn neg(&self) -> Fixed {
         Fixed { negative: !self.negative && self.len > 0, ..*self }
+    }
+}
+
+// NOTE: `Plane::approximate` lives here rather than in `plane.rs`: it falls
+// back on this module's exact fixed-width coefficients, and `plane.rs` is
+// the lower module (this one builds on its planes).
+impl Plane {
+    /// Rounded unit normal and offset (`xyz·p + w ≤ 0` inside), for output.
+    ///
+    /// NOTE: a plane through three nearly collinear points (a frustum edge
+    /// and a light at its apex) has a normal that cancels almost completely
+    /// in floating point. The filtered coefficients are used only when their
+    /// proven error is below 2^-40 of the normal's length; otherwise the
+    /// exact coefficients are scaled exactly by one of their non-zero
+    /// components before rounding, so the direction is right to an ulp.
+    pub fn approximate(&self) -> DVec4 {
+        let [a, b, c, d] = self.coefficients::<crate::number::Filtered>();
+        let n = DVec3::new(a.v, b.v, c.v);
+        let len = n.length();
+        let err = a.e + b.e + c.e;
+        let scale = len.max(d.v.abs() / (1.0 + self.magnitude()));
+        if len > 0.0 && len.is_finite() && err <= len * 2f64.powi(-40) && d.e <= scale * 2f64.powi(-40) * (1.0 + self.magnitude()) {
+            return (n / len).extend(d.v / len);
+        }
+        if let Some(c) = coefficients(self) {
+            // NOTE: scaled by the largest normal component's power of two,
+            // so every component is at most 2^128 and the length finite;
+            // the offset is divided by the length before its scaling, since
+            // d/|n| (a distance) stays in range where d alone may not.
+            let Some(top) = c[..3].iter().filter(|(m, _)| *m != 0.0).map(|(_, k)| *k).max() else { return DVec4::ZERO };
+            let n = DVec3::from_array(std::array::from_fn(|i| scale_pow2(c[i].0, c[i].1 - top)));
+            let len = n.length();
+            return (n / len).extend(scale_pow2(c[3].0 / len, c[3].1 - top));
+        }
+        use crate::number::Exact;
+        let e = self.coefficients::<Exact>();
+        let Some(j) = (0..3).find(|&k| e[k].sign() != 0) else { return DVec4::ZERO };
+        let mut r = DVec3::from_array(std::array::from_fn(|k| Exact::ratio_to_f64(&e[k], &e[j])));
+        let mut off = Exact::ratio_to_f64(&e[3], &e[j]);
+        // Rescale by the largest component to keep the ratios in range.
+        let big = (0..3).max_by(|&x, &y| r[x].abs().total_cmp(&r[y].abs())).unwrap_or(j);
+        if big != j {
+            r = DVec3::from_array(std::array::from_fn(|k| Exact::ratio_to_f64(&e[k], &e[big])));
+            off = Exact::ratio_to_f64(&e[3], &e[big]);
+        }
+        // The ratio's sign may have flipped the normal: restore it.
+        let sign = if e[big].sign() < 0 { -1.0 } else { 1.0 };
+        let l = r.length();
+        (r * (sign / l)).extend(off * sign / l)
     }
 }
 

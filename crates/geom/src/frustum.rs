@@ -3,7 +3,7 @@
 
 use crate::camera::{Camera, CameraBasis};
 use crate::error::{check_finite, GeomError};
-use crate::number::{cross, diff, dot, lift, Exact, Filtered, Ring};
+use crate::number::{abs_cross, cross, diff, dot, lift, Exact, Filtered, Ring};
 use crate::plane::Plane;
 use glam::DVec3;
 
@@ -273,12 +273,6 @@ fn orient_past_static_filter(p: DVec3, q: DVec3, r: DVec3, x: DVec3, in_range: b
     } else {
         0
     }
-}
-
-/// `|a| × |b|` with every product added: bounds the rounding of `a × b`.
-pub(crate) fn abs_cross(a: DVec3, b: DVec3) -> DVec3 {
-    let (a, b) = (a.abs(), b.abs());
-    DVec3::new(a.y * b.z + a.z * b.y, a.z * b.x + a.x * b.z, a.x * b.y + a.y * b.x)
 }
 
 /// [`orient`]'s static filter, with the work that depends only on the plane

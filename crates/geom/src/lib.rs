@@ -40,6 +40,7 @@ mod certified;
 mod error;
 mod fixed;
 mod frustum;
+mod limits;
 mod number;
 mod plane;
 mod polytope;
@@ -52,16 +53,8 @@ pub use body::{
 pub use camera::{Camera, CameraBasis};
 pub use error::GeomError;
 pub use frustum::{Apex, Frustum, PlaneSet};
+pub use limits::{MAX_FACES, MAX_FACE_INDICES, MAX_PLANES, MAX_VERTICES};
 pub use plane::Plane;
 pub use polytope::{Polytope, ROUNDING_ULPS};
 
 pub use glam::{DVec3, DVec4};
-
-/// Most planes a polytope can be bounded by.
-pub const MAX_PLANES: usize = 64;
-/// Most vertices a polytope can have.
-pub const MAX_VERTICES: usize = 128;
-/// Most faces a polytope can have.
-pub const MAX_FACES: usize = MAX_PLANES;
-/// Most face–vertex incidences (sum of face sizes).
-pub const MAX_FACE_INDICES: usize = 3 * MAX_VERTICES + 64;

@@ -15,6 +15,7 @@
 //! also covers constructed points that are never rounded (intersections of
 //! three planes kept as homogeneous coordinates).
 
+use glam::DVec3;
 use num_bigint::{BigInt, Sign};
 use num_traits::{ToPrimitive, Zero};
 
@@ -234,6 +235,12 @@ pub(crate) fn lift<T: Ring>(p: glam::DVec3) -> [T; 3] {
 #[inline]
 pub(crate) fn diff<T: Ring>(a: glam::DVec3, b: glam::DVec3) -> [T; 3] {
     [T::lit(a.x).sub(&T::lit(b.x)), T::lit(a.y).sub(&T::lit(b.y)), T::lit(a.z).sub(&T::lit(b.z))]
+}
+
+/// `|a| × |b|` with every product added: bounds the rounding of `a × b`.
+pub(crate) fn abs_cross(a: DVec3, b: DVec3) -> DVec3 {
+    let (a, b) = (a.abs(), b.abs());
+    DVec3::new(a.y * b.z + a.z * b.y, a.z * b.x + a.x * b.z, a.x * b.y + a.y * b.x)
 }
 
 #[cfg(test)]

@@ -19,9 +19,9 @@
 
 use crate::body::Aabb;
 use crate::error::GeomError;
+use crate::limits::{MAX_FACES, MAX_FACE_INDICES, MAX_PLANES, MAX_VERTICES};
 use crate::number::{Exact, Filtered, Ring};
 use crate::plane::{fold, intersect3, line_plane, side_value, Line, Plane};
-use crate::{MAX_FACES, MAX_FACE_INDICES, MAX_PLANES, MAX_VERTICES};
 use glam::DVec3;
 
 const NONE: u16 = u16::MAX;
