@@ -7,7 +7,7 @@ use std::time::Instant;
 use crate::error::RenderError;
 use crate::frame::{RenderOutput, RenderRequest};
 use crate::gpu::{AdapterSummary, BackendChoice, Gpu};
-use crate::metrics::{self, RenderMetrics};
+use crate::metrics;
 use crate::passes::gbuffer::{DepthLookup, GBufferPass};
 use crate::passes::post::PostPass;
 use crate::passes::readback::read_frame;
@@ -451,28 +451,15 @@ impl Renderer {
         }
 
         let t2 = Instant::now();
-        let px = read_frame(&self.gpu, req, &main.targets, &shadow, post.blur.is_some(), linear)?;
+        let mut out = read_frame(&self.gpu, req, &main.targets, &shadow, post.blur.is_some(), linear)?;
         let readback_ms = t2.elapsed().as_secs_f64() * 1e3;
 
         let t3 = Instant::now();
-        let truth = if s.ground_truth { Some(scene.ground_truth()?.classify_image(&px.world, &px.normal, &req.light)) } else { None };
+        if s.ground_truth {
+            out.truth = Some(scene.ground_truth()?.classify_image(&out.world, &out.normal, &req.light));
+        }
         let ground_truth_ms = t3.elapsed().as_secs_f64() * 1e3;
 
-        let mut out = RenderOutput {
-            width: s.width,
-            height: s.height,
-            color: px.color,
-            world: px.world,
-            normal: px.normal,
-            aliasing: px.aliasing,
-            split: px.split,
-            shadow: px.shadow,
-            truth,
-            shadow_maps: px.shadow_maps,
-            camera: req.camera,
-            light: req.light,
-            metrics: RenderMetrics::default(),
-        };
         let draw_calls: Vec<u32> = shadow.ranges.iter().map(|r| r.len() as u32).collect();
         let timings = metrics::Timings {
             shadow_ms: best_ms[0],

@@ -4,23 +4,14 @@
 use super::gbuffer::Targets;
 use super::shadow::ShadowPass;
 use crate::error::RenderError;
-use crate::frame::{DepthMap, RenderRequest};
+use crate::frame::{DepthMap, RenderOutput, RenderRequest};
 use crate::gpu::Gpu;
 use crate::image::Image;
+use crate::metrics::RenderMetrics;
 use crate::types::DepthTest;
 
-/// The frame as read back, per pixel (rows top to bottom).
-pub(crate) struct Pixels {
-    pub color: Image,
-    pub world: Vec<[f32; 4]>,
-    pub normal: Vec<[f32; 4]>,
-    pub aliasing: Vec<f32>,
-    pub split: Vec<i32>,
-    pub shadow: Vec<f32>,
-    pub shadow_maps: Vec<DepthMap>,
-}
-
-/// Reads the frame back. `blurred`: the shadow term comes from the blur's last target;
+/// Reads the frame back into a [`RenderOutput`] (no ground truth, default metrics: the
+/// renderer adds both). `blurred`: the shadow term comes from the blur's last target;
 /// `linear`: the maps hold linear depth (never stored reversed).
 pub(crate) fn read_frame(
     gpu: &Gpu,
@@ -29,7 +20,7 @@ pub(crate) fn read_frame(
     shadow: &ShadowPass,
     blurred: bool,
     linear: bool,
-) -> Result<Pixels, RenderError> {
+) -> Result<RenderOutput, RenderError> {
     let device = &gpu.device;
     let (w, h, res) = (req.settings.width, req.settings.height, req.settings.shadow_resolution);
     let mut rb = Readback::default();
@@ -51,14 +42,20 @@ pub(crate) fn read_frame(
     let aux_f = f32s(&data[i_aux]);
     let normal_h: Vec<u16> = bytemuck::pod_collect_to_vec::<u8, u16>(&data[i_normal]);
     let n = (w * h) as usize;
-    let mut px = Pixels {
+    let mut px = RenderOutput {
+        width: w,
+        height: h,
         color: Image { width: w, height: h, rgba: data[i_color].clone() },
         world: Vec::with_capacity(n),
         normal: Vec::with_capacity(n),
         aliasing: Vec::with_capacity(n),
         split: Vec::with_capacity(n),
         shadow: Vec::with_capacity(n),
+        truth: None,
         shadow_maps: Vec::new(),
+        camera: req.camera,
+        light: req.light,
+        metrics: RenderMetrics::default(),
     };
     let vis_f: Option<Vec<f32>> = i_vis.map(|i| bytemuck::pod_collect_to_vec::<u8, u16>(&data[i]).into_iter().map(half_to_f32).collect());
     for p in 0..n {
