@@ -5,7 +5,7 @@
 use glam::DVec3;
 use serde_json::Value;
 use shadowfocus::cli::case::parse_case;
-use shadowfocus::geom::{focus_body_into, Body};
+use shadowfocus::geom::{Body, Focuser};
 use std::path::Path;
 
 const FILES: [&str; 7] = ["classic", "directional", "point", "spot", "scene", "extreme", "smoke"];
@@ -58,7 +58,8 @@ fn check_case(case_line: &str, exp_line: &str) -> Result<(bool, bool), String> {
     assert_eq!(case_json["id"], exp_json["id"], "fixture files out of order");
     let case = parse_case(case_line).map_err(|e| format!("{id}: rejected: {e}"))?;
     let mut body = Body::new();
-    focus_body_into(&mut body, &case.view, &case.light, &case.scene).map_err(|e| format!("{id}: error {e}"))?;
+    let mut focuser = Focuser::new();
+    focuser.focus_into(&mut body, &case.view, &case.light, &case.scene).map_err(|e| format!("{id}: error {e}"))?;
     let exp = expected(&exp_json);
     let got_dim = body.dimension().as_i32();
     if got_dim != exp.dimension {

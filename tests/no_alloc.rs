@@ -14,7 +14,7 @@
 use glam::DVec3;
 use shadowfocus::cli::case::parse_case;
 use shadowfocus::focus::*;
-use shadowfocus::geom::{focus_body_into, Aabb, Body, Camera, Frustum, Light};
+use shadowfocus::geom::{Aabb, Body, Camera, Focuser, Frustum, Light};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::path::Path;
@@ -121,14 +121,15 @@ fn float_path_bodies_do_not_allocate() {
         cases.extend(text.lines().filter(|l| !l.trim().is_empty()).map(|l| parse_case(l).unwrap()));
     }
     let mut body = Body::new();
+    let mut focuser = Focuser::new();
     // A first pass sizes the body's scratch space.
     for case in &cases {
-        focus_body_into(&mut body, &case.view, &case.light, &case.scene).unwrap();
+        focuser.focus_into(&mut body, &case.view, &case.light, &case.scene).unwrap();
     }
     let (mut float_path, mut placed_exactly, mut exact_engine) = (0, 0, 0);
     for case in &cases {
         let before = allocations();
-        focus_body_into(&mut body, &case.view, &case.light, &case.scene).unwrap();
+        focuser.focus_into(&mut body, &case.view, &case.light, &case.scene).unwrap();
         let allocated = allocations() - before;
         let stats = body.stats();
         if stats.float_path {

@@ -7,7 +7,7 @@
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
 use shadowfocus_fuzz::{magnitude, FrustumIn, LightIn, SceneIn};
-use shadowfocus_geom::{focus_body, focus_body_exact_into, focus_body_into, Aabb, Body, DVec3, Dimension, Frustum, Light, ROUNDING_ULPS};
+use shadowfocus_geom::{focus_body, Aabb, Body, Focuser, DVec3, Dimension, Frustum, Light, ROUNDING_ULPS};
 use std::cell::RefCell;
 
 #[derive(Arbitrary, Debug)]
@@ -18,7 +18,7 @@ struct Input {
 }
 
 thread_local! {
-    static REUSED: RefCell<Body> = RefCell::new(Body::new());
+    static REUSED: RefCell<(Focuser, Body)> = RefCell::new((Focuser::new(), Body::new()));
 }
 
 fn check(body: &Body, scene: &Aabb, tol: f64) {
@@ -67,7 +67,7 @@ fn check(body: &Body, scene: &Aabb, tol: f64) {
 /// same body: dimension, vertex count and face sizes.
 fn check_against_exact_engine(body: &Body, view: &Frustum, light: &Light, scene: &Aabb) {
     let mut reference = Body::new();
-    focus_body_exact_into(&mut reference, view, light, scene).expect("the exact engine accepts what the fast path accepted");
+    Focuser::new().focus_exact_into(&mut reference, view, light, scene).expect("the exact engine accepts what the fast path accepted");
     assert_eq!(body.dimension(), reference.dimension(), "float path {}", body.stats().float_path);
     assert_eq!(body.vertices().len(), reference.vertices().len(), "float path {}", body.stats().float_path);
     let sizes = |b: &Body| {
@@ -107,8 +107,8 @@ fuzz_target!(|input: Input| {
     check_against_exact_engine(&body, &view, &light, &scene);
 
     REUSED.with(|r| {
-        let mut r = r.borrow_mut();
-        focus_body_into(&mut r, &view, &light, &scene).expect("same input, same result");
-        assert_eq!(format!("{:?}", *r), format!("{body:?}"), "reused body differs");
+        let (focuser, reused) = &mut *r.borrow_mut();
+        focuser.focus_into(reused, &view, &light, &scene).expect("same input, same result");
+        assert_eq!(format!("{reused:?}"), format!("{body:?}"), "reused body differs");
     });
 });

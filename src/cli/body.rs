@@ -3,7 +3,7 @@
 use super::case::{case_lines, parse_case, Case};
 use parry3d_f64::transformation::try_convex_hull;
 use serde_json::{json, Value};
-use shadowfocus_geom::{focus_body_exact_into, focus_body_into, Body, Frustum, Light};
+use shadowfocus_geom::{Body, Focuser, Frustum, Light};
 use std::io::{BufRead, Write};
 use std::time::Instant;
 
@@ -24,10 +24,11 @@ pub fn body_json(id: &Value, body: &Body) -> Value {
 pub fn run(input: impl BufRead, mut out: impl Write) -> std::io::Result<usize> {
     let mut failed = 0;
     let mut body = Body::new();
+    let mut focuser = Focuser::new();
     for line in case_lines(input) {
         let line = line?;
         let result = match parse_case(&line) {
-            Ok(case) => match focus_body_into(&mut body, &case.view, &case.light, &case.scene) {
+            Ok(case) => match focuser.focus_into(&mut body, &case.view, &case.light, &case.scene) {
                 Ok(()) => body_json(&case.id, &body),
                 Err(e) => {
                     failed += 1;
@@ -49,9 +50,10 @@ pub fn run(input: impl BufRead, mut out: impl Write) -> std::io::Result<usize> {
 pub fn float_path_cases(input: impl BufRead, mut out: impl Write) -> std::io::Result<usize> {
     let mut failed = 0;
     let mut body = Body::new();
+    let mut focuser = Focuser::new();
     for line in case_lines(input) {
         let line = line?;
-        match parse_case(&line).map(|case| focus_body_into(&mut body, &case.view, &case.light, &case.scene)) {
+        match parse_case(&line).map(|case| focuser.focus_into(&mut body, &case.view, &case.light, &case.scene)) {
             Ok(Ok(())) if body.stats().float_path => writeln!(out, "{line}")?,
             Ok(Ok(())) => {}
             _ => failed += 1,
@@ -111,6 +113,7 @@ pub fn bench(input: impl BufRead) -> std::io::Result<Value> {
         }
     }
     let mut body = Body::new();
+    let mut focuser = Focuser::new();
     let mut body_ns = Vec::with_capacity(cases.len());
     let mut with_frustum_ns = Vec::with_capacity(cases.len());
     let mut exact_cases = 0;
@@ -119,11 +122,11 @@ pub fn bench(input: impl BufRead) -> std::io::Result<Value> {
     // (what engines typically compute, without any clipping), case by case.
     let (mut finite_light_body_ns, mut parry_ns) = (Vec::new(), Vec::new());
     for case in &cases {
-        let _ = focus_body_into(&mut body, &case.view, &case.light, &case.scene);
+        let _ = focuser.focus_into(&mut body, &case.view, &case.light, &case.scene);
         exact_cases += (body.stats().exact_evaluations > 0) as usize;
         let on_float_path = body.stats().float_path;
         let ns = case_median_ns(|| {
-            let _ = focus_body_into(&mut body, &case.view, &case.light, &case.scene);
+            let _ = focuser.focus_into(&mut body, &case.view, &case.light, &case.scene);
         });
         body_ns.push(ns);
         if on_float_path { &mut float_ns } else { &mut engine_ns }.push(ns);
@@ -140,12 +143,12 @@ pub fn bench(input: impl BufRead) -> std::io::Result<Value> {
             }
         }
         exact_only_ns.push(case_median_ns(|| {
-            let _ = focus_body_exact_into(&mut body, &case.view, &case.light, &case.scene);
+            let _ = focuser.focus_exact_into(&mut body, &case.view, &case.light, &case.scene);
         }));
         let corners = *case.view.corners();
         with_frustum_ns.push(case_median_ns(|| {
             if let Ok(view) = Frustum::from_corners(std::hint::black_box(corners)) {
-                let _ = focus_body_into(&mut body, &view, &case.light, &case.scene);
+                let _ = focuser.focus_into(&mut body, &view, &case.light, &case.scene);
             }
         }));
     }
@@ -197,10 +200,11 @@ mod tests {
         assert_eq!(float_path_cases(text.as_bytes(), &mut out).unwrap(), 0);
         let kept: Vec<&str> = std::str::from_utf8(&out).unwrap().lines().collect();
         let mut body = Body::new();
+        let mut focuser = Focuser::new();
         let mut expected = Vec::new();
         for line in text.lines().filter(|l| !l.trim().is_empty()) {
             let case = parse_case(line).unwrap();
-            focus_body_into(&mut body, &case.view, &case.light, &case.scene).unwrap();
+            focuser.focus_into(&mut body, &case.view, &case.light, &case.scene).unwrap();
             if body.stats().float_path {
                 expected.push(line);
             }

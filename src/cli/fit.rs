@@ -7,7 +7,7 @@ use shadowfocus_focus::{
     camera_from_corners, fit, fit_frustum, fit_map, fit_prepared, FocusResult, FocusSettings, Method, PreparedView, SplitScheme,
     SplitSettings,
 };
-use shadowfocus_geom::{focus_body_into, Body, Camera, Frustum};
+use shadowfocus_geom::{Body, Camera, Focuser, Frustum};
 use std::hint::black_box;
 use std::io::{BufRead, Write};
 
@@ -207,6 +207,7 @@ pub fn bench(input: impl BufRead, settings: &FocusSettings) -> std::io::Result<V
 pub fn phases(input: impl BufRead, settings: &FocusSettings) -> std::io::Result<Value> {
     let mut result = FocusResult::new();
     let mut body = Body::new();
+    let mut focuser = Focuser::new();
     let (mut frustum_ns, mut body_ns, mut map_ns, mut whole_ns) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let (mut other, mut skipped) = (0, 0);
     for line in case_lines(input) {
@@ -226,7 +227,7 @@ pub fn phases(input: impl BufRead, settings: &FocusSettings) -> std::io::Result<
             other += 1;
             continue;
         };
-        if focus_body_into(&mut body, &view, &c.light, &c.scene).is_err() || fit_map(&cam, &c.light, &body, settings).is_err() {
+        if focuser.focus_into(&mut body, &view, &c.light, &c.scene).is_err() || fit_map(&cam, &c.light, &body, settings).is_err() {
             other += 1;
             continue;
         }
@@ -234,7 +235,7 @@ pub fn phases(input: impl BufRead, settings: &FocusSettings) -> std::io::Result<
             let _ = black_box(Frustum::from_camera(black_box(&cam)));
         }));
         body_ns.push(case_median_ns(|| {
-            let _ = focus_body_into(&mut body, black_box(&view), &c.light, &c.scene);
+            let _ = focuser.focus_into(&mut body, black_box(&view), &c.light, &c.scene);
         }));
         map_ns.push(case_median_ns(|| {
             let _ = black_box(fit_map(&cam, &c.light, black_box(&body), settings));

@@ -10,7 +10,7 @@ use crate::settings::{FocusSettings, Method, PointMode};
 use crate::splits::split_depths;
 use crate::MAX_SPLITS;
 use glam::{DMat4, DVec3, Mat4};
-use shadowfocus_geom::{focus_body_into, Aabb, Body, Camera, CameraBasis, Frustum, Light, MAX_VERTICES, ROUNDING_ULPS};
+use shadowfocus_geom::{Aabb, Body, Camera, CameraBasis, Focuser, Frustum, Light, MAX_VERTICES, ROUNDING_ULPS};
 
 /// Half-angle margin of cube faces and truncation frusta: the field of view
 /// is widened by 2⁻²⁰ (relative) so that the rounded frusta still overlap;
@@ -283,7 +283,7 @@ fn visible_range(camera: &Camera, settings: &FocusSettings) -> Result<Camera, Fo
 
 /// A split emptied by δ_bias: no depth, hence no body and no map.
 fn empty_split(out: &mut FocusResult, light: &Light, split: usize, range: [f64; 2]) -> Result<(), FocusError> {
-    let map = push(out)?;
+    let (map, _) = push(out)?;
     map.split = split;
     map.face = None;
     map.split_range = range;
@@ -298,9 +298,9 @@ fn fit_split(out: &mut FocusResult, sv: &SplitView, view: &Frustum, light: &Ligh
     match *light {
         Light::Point { position } => point_maps(out, sv, view, position, scene, split),
         _ => {
-            let map = push(out)?;
+            let (map, focuser) = push(out)?;
             begin(map, sv, split, None, light);
-            focus_body_into(&mut map.body, view, light, scene)?;
+            focuser.focus_into(&mut map.body, view, light, scene)?;
             map.body_valid = true;
             if !finish(map, sv) {
                 return Err(FocusError::NoSingleProjection {
@@ -312,7 +312,7 @@ fn fit_split(out: &mut FocusResult, sv: &SplitView, view: &Frustum, light: &Ligh
     }
 }
 
-fn push(out: &mut FocusResult) -> Result<&mut ShadowMap, FocusError> {
+fn push(out: &mut FocusResult) -> Result<(&mut ShadowMap, &mut Focuser), FocusError> {
     out.push().ok_or(FocusError::Capacity { what: "shadow maps" })
 }
 
@@ -487,9 +487,9 @@ fn point_maps(out: &mut FocusResult, sv: &SplitView, view: &Frustum, l: DVec3, s
         return cube_faces(out, sv, view, l, scene, split, r);
     }
     let light = Light::Point { position: l };
-    let map = push(out)?;
+    let (map, focuser) = push(out)?;
     begin(map, sv, split, None, &light);
-    focus_body_into(&mut map.body, view, &light, scene)?;
+    focuser.focus_into(&mut map.body, view, &light, scene)?;
     map.body_valid = true;
     if map.body.is_empty() {
         map.set_empty();
@@ -504,7 +504,7 @@ fn point_maps(out: &mut FocusResult, sv: &SplitView, view: &Frustum, l: DVec3, s
             Truncation::Frustum(fr) => {
                 let spot = Light::spot(l, fr)?;
                 map.light = spot;
-                focus_body_into(&mut map.body, view, &spot, scene)?;
+                focuser.focus_into(&mut map.body, view, &spot, scene)?;
                 if finish(map, sv) {
                     return Ok(());
                 }
@@ -633,7 +633,7 @@ fn cube_faces(
     for face in CubeFace::ALL {
         let (axis, up) = face.axes();
         let far = (0..8).map(|k| axis.dot(box_corner(scene, k) - l)).fold(f64::NEG_INFINITY, f64::max) * (1.0 + CONE_MARGIN);
-        let map = push(out)?;
+        let (map, focuser) = push(out)?;
         begin(map, sv, split, Some(face), &Light::Point { position: l });
         map.light_near = r;
         if !(far > near) {
@@ -645,7 +645,7 @@ fn cube_faces(
         let face_frustum = Frustum::from_camera(&cam)?;
         let spot = Light::spot(l, face_frustum)?;
         map.light = spot;
-        focus_body_into(&mut map.body, view, &spot, scene)?;
+        focuser.focus_into(&mut map.body, view, &spot, scene)?;
         map.body_valid = true;
         if finish(map, sv) {
             continue;
@@ -656,7 +656,7 @@ fn cube_faces(
         // where no map from it sees them. The face's frustum cut by S,
         // `L_f ∩ S ⊇ H_f` (its body with the face itself as the view), is
         // computed at the face's own scale: fit the map to that instead.
-        focus_body_into(&mut map.body, &face_frustum, &spot, scene)?;
+        focuser.focus_into(&mut map.body, &face_frustum, &spot, scene)?;
         if !finish(map, sv) {
             return Err(FocusError::NoSingleProjection { reason: "a cube face cannot see its body, nor its frustum within the scene box" });
         }

@@ -18,7 +18,7 @@ use crate::cone::{cone_axis, least_aligned, turn_into_cone};
 use crate::frame::tangent_frame;
 use crate::hull2::hull_area;
 use glam::{DMat4, DVec2, DVec3, DVec4};
-use shadowfocus_geom::{Camera, CameraBasis, MAX_VERTICES};
+use shadowfocus_geom::{Camera, CameraBasis, MAX_VERTICES, UNIT_ROUNDOFF, UNIT_ROUNDOFF_F32};
 
 /// Matrix from its four rows.
 pub(crate) fn from_rows(x: DVec4, y: DVec4, z: DVec4, w: DVec4) -> DMat4 {
@@ -182,8 +182,8 @@ pub(crate) fn apply_warp(m: &DMat4, wp: &Warp) -> DMat4 {
 }
 
 /// Relative rounding errors of single and double precision.
-const U32: f64 = 1.0 / (1u64 << 24) as f64;
-const U64: f64 = f64::EPSILON / 2.0;
+const U32: f64 = UNIT_ROUNDOFF_F32;
+const U64: f64 = UNIT_ROUNDOFF;
 /// Error constant of one clip-space coordinate: entry rounding (u), position
 /// rounding (u) and a 4-term dot product (≤ 4u), with room to spare.
 const K: f64 = 8.0;

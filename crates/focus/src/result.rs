@@ -4,7 +4,7 @@
 use crate::settings::Method;
 use crate::{MAX_MAPS, MAX_SPLITS};
 use glam::{DMat4, Mat4};
-use shadowfocus_geom::{Body, Light};
+use shadowfocus_geom::{Body, Focuser, Light};
 
 /// The depth comparison a map must be rendered and sampled with.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -276,6 +276,8 @@ pub struct FocusResult {
     splits: usize,
     pub skipped: Skipped,
     pub notes: Notes,
+    /// The body engines' work space, shared by every map.
+    focuser: Focuser,
 }
 
 impl Default for FocusResult {
@@ -306,6 +308,7 @@ impl FocusResult {
             splits: 0,
             skipped: Skipped::default(),
             notes: Notes::default(),
+            focuser: Focuser::new(),
         }
     }
 
@@ -348,12 +351,13 @@ impl FocusResult {
         }
     }
 
-    pub(crate) fn push(&mut self) -> Option<&mut ShadowMap> {
+    /// The next map slot, and the work space to compute its body with.
+    pub(crate) fn push(&mut self) -> Option<(&mut ShadowMap, &mut Focuser)> {
         if self.len >= self.maps.len() {
             return None;
         }
         self.len += 1;
-        Some(&mut self.maps[self.len - 1])
+        Some((&mut self.maps[self.len - 1], &mut self.focuser))
     }
 
     pub(crate) fn pop(&mut self) {

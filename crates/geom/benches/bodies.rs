@@ -8,7 +8,7 @@ use criterion::measurement::WallTime;
 use criterion::{criterion_group, criterion_main, BenchmarkGroup, Criterion, Throughput};
 use glam::DVec3;
 use shadowfocus_case::parse_case;
-use shadowfocus_geom::{focus_body_exact_into, focus_body_into, focus_body_into_without_skip, Aabb, Body, Frustum, GeomError, Light};
+use shadowfocus_geom::{Aabb, Body, Focuser, Frustum, GeomError, Light};
 use std::hint::black_box;
 use std::path::Path;
 
@@ -31,17 +31,18 @@ fn load(name: &str) -> Vec<Case> {
         .collect()
 }
 
-/// One of the body entry points (`focus_body_into` and its variants).
-type Engine = fn(&mut Body, &Frustum, &Light, &Aabb) -> Result<(), GeomError>;
+/// One of the body entry points (`Focuser::focus_into` and its variants).
+type Engine = fn(&mut Focuser, &mut Body, &Frustum, &Light, &Aabb) -> Result<(), GeomError>;
 
-/// Times `engine` over every case, reusing one `Body` (as an engine would
-/// across frames); throughput is counted in bodies.
+/// Times `engine` over every case, reusing one `Focuser` and one `Body` (as
+/// an engine would across frames); throughput is counted in bodies.
 fn bench_engine(group: &mut BenchmarkGroup<WallTime>, name: &str, body: &mut Body, cases: &[&Case], engine: Engine) {
+    let mut focuser = Focuser::new();
     group.throughput(Throughput::Elements(cases.len().max(1) as u64));
     group.bench_function(name, |b| {
         b.iter(|| {
             for case in cases {
-                let _ = engine(body, &case.view, &case.light, &case.scene);
+                let _ = engine(&mut focuser, body, &case.view, &case.light, &case.scene);
             }
         })
     });
@@ -52,8 +53,9 @@ fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("focus_body");
     group.sample_size(20).measurement_time(std::time::Duration::from_secs(3));
     let mut body = Body::new();
+    let mut focuser = Focuser::new();
     for (name, cases) in &sets {
-        bench_engine(&mut group, name, &mut body, &cases.iter().collect::<Vec<_>>(), focus_body_into);
+        bench_engine(&mut group, name, &mut body, &cases.iter().collect::<Vec<_>>(), Focuser::focus_into);
     }
     let mixed: Vec<&Case> = sets.iter().flat_map(|(_, c)| c.iter()).collect();
     group.throughput(Throughput::Elements(mixed.len() as u64));
@@ -61,7 +63,7 @@ fn bench(c: &mut Criterion) {
         b.iter(|| {
             for case in &mixed {
                 if let Ok(view) = Frustum::from_corners(black_box(case.corners)) {
-                    let _ = focus_body_into(&mut body, &view, &case.light, &case.scene);
+                    let _ = focuser.focus_into(&mut body, &view, &case.light, &case.scene);
                 }
             }
         })
@@ -79,15 +81,15 @@ fn bench(c: &mut Criterion) {
     let skippable: Vec<&Case> = mixed
         .iter()
         .copied()
-        .filter(|c| focus_body_into(&mut body, &c.view, &c.light, &c.scene).is_ok() && body.stats().scene_clip_skipped)
+        .filter(|c| focuser.focus_into(&mut body, &c.view, &c.light, &c.scene).is_ok() && body.stats().scene_clip_skipped)
         .collect();
     eprintln!("scene-clip skip applies to {} of {} cases", skippable.len(), mixed.len());
-    bench_engine(&mut group, "skippable_cases_with_skip", &mut body, &skippable, focus_body_into);
-    bench_engine(&mut group, "skippable_cases_without_skip", &mut body, &skippable, focus_body_into_without_skip);
+    bench_engine(&mut group, "skippable_cases_with_skip", &mut body, &skippable, Focuser::focus_into);
+    bench_engine(&mut group, "skippable_cases_without_skip", &mut body, &skippable, Focuser::focus_into_without_skip);
     // What the floating-point path saves: the same cases through the exact
     // engine alone.
-    bench_engine(&mut group, "mixed_exact_engine_only", &mut body, &mixed, focus_body_exact_into);
-    bench_engine(&mut group, "mixed", &mut body, &mixed, focus_body_into);
+    bench_engine(&mut group, "mixed_exact_engine_only", &mut body, &mixed, Focuser::focus_exact_into);
+    bench_engine(&mut group, "mixed", &mut body, &mixed, Focuser::focus_into);
     // The usual engine approach for comparison: parry's epsilon-based hull
     // of the 8 corners and the light (point lights only; no clipping).
     let points = &sets[1].1;

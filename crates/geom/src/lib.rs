@@ -13,8 +13,16 @@
 //! fallback and unrounded vertices. Output vertices are within
 //! [`ROUNDING_ULPS`] of the exact ones.
 //!
+//! Layout: `input/` (what a body is computed from, validated), `arith/`
+//! (the rounding floor, filtered and exact numbers, fixed-width integer
+//! stages, plane formulas), `predicates/` (the exact sign cascades),
+//! `engine/` (the plan, the certified float engine by phase, the exact
+//! engine, and the [`Focuser`] that runs them) and `body.rs` (the plain
+//! output). Each imports only parts before it in the order arith,
+//! predicates, input, body, engine: no import circles.
+//!
 //! ```
-//! use shadowfocus_geom::{focus_body, Aabb, Camera, Dimension, Frustum, Light};
+//! use shadowfocus_geom::{focus_body, Aabb, Body, Camera, Dimension, Focuser, Frustum, Light};
 //! use glam::DVec3;
 //!
 //! let view = Frustum::from_camera(&Camera {
@@ -31,30 +39,32 @@
 //! let body = focus_body(&view, &sun, &scene)?;
 //! assert_eq!(body.dimension(), Dimension::Solid);
 //! assert!(body.volume() > 0.0);
+//!
+//! // Per frame: one work space and one output, reused without allocating.
+//! let (mut focuser, mut frame_body) = (Focuser::new(), Body::new());
+//! focuser.focus_into(&mut frame_body, &view, &sun, &scene)?;
+//! assert_eq!(frame_body.vertices(), body.vertices());
 //! # Ok::<(), shadowfocus_geom::GeomError>(())
 //! ```
 
+mod arith;
 mod body;
-mod camera;
-mod certified;
+mod engine;
 mod error;
-mod fixed;
-mod frustum;
+mod input;
 mod limits;
-mod number;
-mod plane;
-mod polytope;
-mod wide;
+mod predicates;
 
-pub use body::{
-    focus_body, focus_body_exact_into, focus_body_into, focus_body_into_without_skip, unit_direction, Aabb, Body, Dimension, FocusStats,
-    Light,
-};
-pub use camera::{Camera, CameraBasis};
+pub use arith::floor::{UNIT_ROUNDOFF, UNIT_ROUNDOFF_F32};
+pub use arith::plane::Plane;
+pub use body::{Body, Dimension, FocusStats};
+pub use engine::exact::{Polytope, ROUNDING_ULPS};
+pub use engine::{focus_body, Focuser};
 pub use error::GeomError;
-pub use frustum::{Apex, Frustum, PlaneSet};
+pub use input::aabb::Aabb;
+pub use input::camera::{Camera, CameraBasis};
+pub use input::frustum::{Apex, Frustum, PlaneSet};
+pub use input::light::{unit_direction, Light};
 pub use limits::{MAX_FACES, MAX_FACE_INDICES, MAX_PLANES, MAX_VERTICES};
-pub use plane::Plane;
-pub use polytope::{Polytope, ROUNDING_ULPS};
 
 pub use glam::{DVec3, DVec4};

@@ -18,8 +18,7 @@
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
 use shadowfocus_geom::{
-    focus_body, focus_body_exact_into, focus_body_into, Aabb, Body, Camera, DVec3, Dimension, Frustum, GeomError, Light, Plane, Polytope,
-    ROUNDING_ULPS,
+    focus_body, Aabb, Body, Camera, DVec3, Dimension, Focuser, Frustum, GeomError, Light, Plane, Polytope, ROUNDING_ULPS,
 };
 use std::collections::HashMap;
 
@@ -727,7 +726,8 @@ proptest! {
         let body = body_of(&c)?;
         check_well_formed(&c, &body)?;
         let mut reused = body_of(&prior)?;
-        geom(focus_body_into(&mut reused, &c.view.frustum, &c.light, &c.scene))?;
+        let mut focuser = Focuser::new();
+        geom(focuser.focus_into(&mut reused, &c.view.frustum, &c.light, &c.scene))?;
         prop_assert_eq!(format!("{body:?}"), format!("{reused:?}"), "reused body differs");
         prop_assert_eq!(body.volume().to_bits(), reused.volume().to_bits());
         // The exact body must be this computation's, not a stale one.
@@ -741,7 +741,8 @@ proptest! {
     fn float_path_agrees_with_exact_engine(c in case()) {
         let fast = body_of(&c)?;
         let mut exact = Body::new();
-        geom(focus_body_exact_into(&mut exact, &c.view.frustum, &c.light, &c.scene))?;
+        let mut focuser = Focuser::new();
+        geom(focuser.focus_exact_into(&mut exact, &c.view.frustum, &c.light, &c.scene))?;
         prop_assert!(!exact.stats().float_path);
         prop_assert_eq!(fast.dimension(), exact.dimension());
         prop_assert_eq!(fast.vertices().len(), exact.vertices().len(), "vertex counts differ ({:?} path)", fast.stats().float_path);
@@ -837,7 +838,8 @@ proptest! {
         for scene in [Aabb { min: lo, max: inverted }, Aabb { min: lo, max: v }, Aabb { min: v, max: DVec3::ONE }] {
             prop_assert!(focus_body(&good, &sun, &scene).is_err(), "{:?} accepted", scene);
             let mut out = Body::new();
-            prop_assert!(focus_body_into(&mut out, &good, &sun, &scene).is_err());
+            let mut focuser = Focuser::new();
+            prop_assert!(focuser.focus_into(&mut out, &good, &sun, &scene).is_err());
             prop_assert!(out.is_empty());
         }
 
@@ -1184,7 +1186,8 @@ fn exactly_coplanar_lights_and_faces_give_the_exact_engines_body() {
         let scene = Aabb::new(DVec3::splat(-100.0), DVec3::new(100.0, 100.0, top)).unwrap();
         let body = focus_body(&view, &light, &scene).unwrap();
         let mut reference = Body::new();
-        focus_body_exact_into(&mut reference, &view, &light, &scene).unwrap();
+        let mut focuser = Focuser::new();
+        focuser.focus_exact_into(&mut reference, &view, &light, &scene).unwrap();
         assert_eq!(body.dimension(), reference.dimension(), "case {case}: {c:?} {light:?} {scene:?}");
         assert_eq!(body.vertices().len(), reference.vertices().len(), "case {case}: {c:?} {light:?} {scene:?}\n{body:?}\n{reference:?}");
         assert_eq!(sizes(&body), sizes(&reference), "case {case}: {c:?} {light:?} {scene:?}");

@@ -1,7 +1,7 @@
 //! Regressions found by the property tests and the fuzz targets, replayed
 //! as fixed inputs so that they keep failing loudly if they come back.
 
-use shadowfocus_geom::{focus_body, focus_body_into, Aabb, Apex, Body, Camera, DVec3, Dimension, Frustum, Light, Plane, Polytope};
+use shadowfocus_geom::{focus_body, Aabb, Apex, Body, Camera, DVec3, Dimension, Focuser, Frustum, Light, Plane, Polytope};
 
 /// A point light 1e13 away with the scene holding both V and the light:
 /// H is the pyramid over V's far face with its apex at the light. Volume
@@ -56,9 +56,10 @@ fn exact_body_after_an_early_empty_result() {
 
     let around = Aabb::new(DVec3::splat(-100.0), DVec3::splat(100.0)).unwrap();
     let mut reused = Body::new();
-    focus_body_into(&mut reused, &view, &sun, &around).unwrap();
+    let mut focuser = Focuser::new();
+    focuser.focus_into(&mut reused, &view, &sun, &around).unwrap();
     assert_eq!(reused.dimension(), Dimension::Solid);
-    focus_body_into(&mut reused, &view, &sun, &far_away).unwrap();
+    focuser.focus_into(&mut reused, &view, &sun, &far_away).unwrap();
     assert!(reused.is_empty());
     let exact = reused.exact().expect("exact() after a successful computation");
     assert!(exact.is_empty(), "exact() still holds the previous body (dimension {})", exact.dimension());
@@ -240,7 +241,8 @@ fn coplanar_frustum_faces_do_not_add_a_vertex() {
     let scene = Aabb::new(DVec3::new(-473732006.875, -1082182204.0, -30.875), DVec3::new(-473731942.125, -1082182203.0, 96.875)).unwrap();
     let body = focus_body(&view, &light, &scene).unwrap();
     let mut reference = Body::new();
-    shadowfocus_geom::focus_body_exact_into(&mut reference, &view, &light, &scene).unwrap();
+    let mut focuser = Focuser::new();
+    focuser.focus_exact_into(&mut reference, &view, &light, &scene).unwrap();
     assert_eq!(body.dimension(), Dimension::Solid);
     assert_eq!(body.vertices().len(), 8, "{body:?}");
     assert_eq!(reference.vertices().len(), 8, "{reference:?}");
@@ -268,7 +270,8 @@ fn a_scene_face_in_a_frustum_face_plane_adds_no_edges() {
 /// and volume.
 fn assert_float_path_matches_exact_engine(body: &Body, view: &Frustum, light: &Light, scene: &Aabb) {
     let mut reference = Body::new();
-    shadowfocus_geom::focus_body_exact_into(&mut reference, view, light, scene).unwrap();
+    let mut focuser = Focuser::new();
+    focuser.focus_exact_into(&mut reference, view, light, scene).unwrap();
     assert!(body.stats().float_path, "the float path declined: {body:?}");
     assert_eq!(body.vertices().len(), reference.vertices().len(), "{body:?}\n{reference:?}");
     let sizes = |b: &Body| {

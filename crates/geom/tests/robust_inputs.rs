@@ -2,7 +2,7 @@
 //! checked face indices. Typed errors or right answers, never a panic.
 
 use shadowfocus_geom::{
-    focus_body, focus_body_exact_into, unit_direction, Aabb, Body, Camera, DVec3, Frustum, GeomError, Light, Polytope, ROUNDING_ULPS,
+    focus_body, unit_direction, Aabb, Body, Camera, DVec3, Focuser, Frustum, GeomError, Light, Polytope, ROUNDING_ULPS,
 };
 
 fn view() -> Frustum {
@@ -78,7 +78,8 @@ fn long_and_short_directions_give_the_same_body() {
                 same_vertices(&b, &base, &format!("{d} · 2^{k}"));
             }
             let mut e = Body::new();
-            focus_body_exact_into(&mut e, &v, &light, &s).unwrap();
+            let mut focuser = Focuser::new();
+            focuser.focus_exact_into(&mut e, &v, &light, &s).unwrap();
             same_vertices(&e, &base, &format!("{d} · 2^{k} (exact engine)"));
         }
     }

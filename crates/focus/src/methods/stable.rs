@@ -7,7 +7,7 @@ use crate::frame::tangent_frame;
 use crate::project::{from_rows, h, Cropped};
 use crate::settings::Method;
 use glam::{DVec3, DVec4};
-use shadowfocus_geom::{unit_direction, Body, Light};
+use shadowfocus_geom::{unit_direction, Body, Light, UNIT_ROUNDOFF_F32};
 
 /// Largest absolute coordinate, quantised up to a power of two.
 fn pow2_ceil(x: f64) -> f64 {
@@ -52,7 +52,7 @@ pub(super) fn stable(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitte
     let o = sv.settings.f32_origin;
     let mag = verts.iter().map(|p| (*p - o).abs().element_sum()).fold(0.0, f64::max);
     let (ox, oy) = (ex.dot(o), ey.dot(o));
-    let u = 1.0 / (1u64 << 24) as f64;
+    let u = UNIT_ROUNDOFF_F32;
     let m = pow2_ceil(16.0 * u * (mag + (cx - ox).abs() + (cy - oy).abs() + r));
     let res = sv.settings.resolution as f64;
     let half = (r + m) * res / (res - 2.0);

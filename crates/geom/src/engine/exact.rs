@@ -17,11 +17,12 @@
 //! - segment: two vertices and two planes through the line;
 //! - point: one vertex.
 
-use crate::body::Aabb;
+use crate::arith::number::{Exact, Filtered, Ring};
+use crate::arith::plane::{fold, intersect3, line_plane, side_value, Line, Plane};
 use crate::error::GeomError;
+use crate::input::aabb::Aabb;
 use crate::limits::{MAX_FACES, MAX_FACE_INDICES, MAX_PLANES, MAX_VERTICES};
-use crate::number::{Exact, Filtered, Ring};
-use crate::plane::{fold, intersect3, line_plane, side_value, Line, Plane};
+use crate::predicates::side::point_side;
 use glam::DVec3;
 
 const NONE: u16 = u16::MAX;
@@ -819,7 +820,7 @@ impl Polytope {
         let a = line.anchor();
         let u = line.direction::<Filtered>();
         let n = [c[0], c[1], c[2]];
-        let nu = crate::number::dot(&n, &u);
+        let nu = crate::arith::number::dot(&n, &u);
         let pa = self.planes[plane].eval_at::<Filtered>(a);
         if !(nu.v.abs() > 2.0 * nu.e && nu.v.is_finite() && pa.v.is_finite()) {
             return false;
@@ -892,21 +893,6 @@ impl std::ops::Deref for HalfspaceBuf {
     type Target = [Plane];
     fn deref(&self) -> &[Plane] {
         &self.planes[..self.len]
-    }
-}
-
-/// Exact side of an explicit point w.r.t. a plane: −1 inside, 0 on, +1 outside.
-pub(crate) fn point_side(plane: &Plane, x: DVec3) -> i8 {
-    // NOTE: for a plane through three points this is an orientation, whose
-    // own static filter is as tight as the dynamic one and cheaper, and
-    // whose exact stages are far cheaper than big integers on the
-    // near-coplanar corners of a frustum side.
-    if let Plane::Points([p, q, r]) = *plane {
-        return crate::frustum::orient(p, q, r, x);
-    }
-    match plane.eval_at::<Filtered>(x).sign() {
-        Some(s) => s,
-        None => plane.eval_at::<Exact>(x).sign(),
     }
 }
 

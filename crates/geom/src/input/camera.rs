@@ -118,14 +118,14 @@ impl Camera {
 
 /// Whether `a × b = 0` exactly (each component's sign decided exactly).
 fn exactly_parallel(a: DVec3, b: DVec3) -> bool {
-    use crate::number::{cross, lift, Exact, Filtered};
+    use crate::arith::number::{cross, lift, Exact, Filtered};
     // NOTE: a component `a_i b_j − a_j b_i` rounds each product and the
     // difference once: within 2u(1 + u) of |a_i b_j| + |a_j b_i|, plus at
     // most 2^-1074 per product where one underflows. The bound takes 6u of
     // the rounded sum (which covers that sum's own rounding) and 1e-300;
     // beyond it the exact component is nonzero. An infinite bound proves
     // nothing (NaN compares false).
-    let (c, perm) = (a.cross(b), crate::number::abs_cross(a, b));
+    let (c, perm) = (a.cross(b), crate::arith::number::abs_cross(a, b));
     let bound = perm * (3.0 * f64::EPSILON) + DVec3::splat(1e-300);
     if c.abs().cmpgt(bound).any() {
         return false;

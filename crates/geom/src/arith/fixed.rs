@@ -25,8 +25,8 @@
 //! offset and a cross product of normals) below 2^609, inside [`LIMBS`]
 //! limbs. An overflow is still detected, and declines.
 
-use crate::number::{cross, dot, scale_pow2, Ring};
-use crate::plane::{intersect3, Plane};
+use crate::arith::number::{cross, dot, scale_pow2, Ring};
+use crate::arith::plane::{intersect3, Plane};
 use glam::{DVec3, DVec4};
 
 /// Largest exponent spread between one axis's values (see the bit budget).
@@ -377,7 +377,7 @@ impl Plane {
     /// exact coefficients are scaled exactly by one of their non-zero
     /// components before rounding, so the direction is right to an ulp.
     pub fn approximate(&self) -> DVec4 {
-        let [a, b, c, d] = self.coefficients::<crate::number::Filtered>();
+        let [a, b, c, d] = self.coefficients::<crate::arith::number::Filtered>();
         let n = DVec3::new(a.v, b.v, c.v);
         let len = n.length();
         let err = a.e + b.e + c.e;
@@ -395,7 +395,7 @@ impl Plane {
             let len = n.length();
             return (n / len).extend(scale_pow2(c[3].0 / len, c[3].1 - top));
         }
-        use crate::number::Exact;
+        use crate::arith::number::Exact;
         let e = self.coefficients::<Exact>();
         let Some(j) = (0..3).find(|&k| e[k].sign() != 0) else { return DVec4::ZERO };
         let mut r = DVec3::from_array(std::array::from_fn(|k| Exact::ratio_to_f64(&e[k], &e[j])));
@@ -416,8 +416,8 @@ impl Plane {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::number::{diff, lift, Exact};
-    use crate::wide::tests::unit;
+    use crate::arith::number::{diff, lift, Exact};
+    use crate::arith::wide::tests::unit;
     use proptest::prelude::Rng;
     use proptest::test_runner::{RngAlgorithm, TestRng};
 

@@ -15,6 +15,7 @@
 //! also covers constructed points that are never rounded (intersections of
 //! three planes kept as homogeneous coordinates).
 
+use crate::arith::floor::{BOUND_SLACK, UNDERFLOW_FLOOR, UNIT_ROUNDOFF};
 use glam::DVec3;
 use num_bigint::{BigInt, Sign};
 use num_traits::{ToPrimitive, Zero};
@@ -27,19 +28,6 @@ pub(crate) trait Ring: Clone {
     fn mul(&self, o: &Self) -> Self;
     fn neg(&self) -> Self;
 }
-
-/// Unit roundoff of round-to-nearest f64 arithmetic.
-const U: f64 = f64::EPSILON * 0.5;
-
-/// NOTE: the error bound is itself computed in floating point and may come
-/// out slightly low: every operation on it is a sum or product of
-/// non-negative terms, so it is low by a factor of at most (1 − u)^depth.
-/// Predicates here have depth < 64, and this slack covers depths up to ~2^12.
-const BOUND_SLACK: f64 = 1.0 + 1.0 / (1u64 << 40) as f64;
-
-/// Values this small are never trusted to the filter: it keeps subnormal
-/// underflow (which breaks relative error bounds) out of the filter's way.
-const ABS_FLOOR: f64 = 1e-280;
 
 /// An f64 value `v` with `|exact − v| ≤ e`.
 #[derive(Clone, Copy, Debug)]
@@ -62,7 +50,7 @@ impl Filtered {
                 0
             });
         }
-        let bound = self.e * BOUND_SLACK + ABS_FLOOR;
+        let bound = self.e * BOUND_SLACK + UNDERFLOW_FLOOR;
         // NaN or infinity in either part fails both comparisons.
         if self.v > bound && bound.is_finite() {
             Some(1)
@@ -83,18 +71,18 @@ impl Ring for Filtered {
     fn add(&self, o: &Self) -> Self {
         let v = self.v + o.v;
         // |fl(a+b) − (a+b)| ≤ u·|fl(a+b)|; subnormal sums are exact.
-        Filtered { v, e: self.e + o.e + U * v.abs() }
+        Filtered { v, e: self.e + o.e + UNIT_ROUNDOFF * v.abs() }
     }
     #[inline]
     fn sub(&self, o: &Self) -> Self {
         let v = self.v - o.v;
-        Filtered { v, e: self.e + o.e + U * v.abs() }
+        Filtered { v, e: self.e + o.e + UNIT_ROUNDOFF * v.abs() }
     }
     #[inline]
     fn mul(&self, o: &Self) -> Self {
         let v = self.v * o.v;
         // (a+δa)(b+δb) = ab + a·δb + b·δa + δa·δb, plus the rounding of ab.
-        let mut e = self.v.abs() * o.e + o.v.abs() * self.e + self.e * o.e + U * v.abs();
+        let mut e = self.v.abs() * o.e + o.v.abs() * self.e + self.e * o.e + UNIT_ROUNDOFF * v.abs();
         // NOTE: below the normal range the relative bound fails (a product can
         // underflow to zero); an absolute term covers it. Exact zero factors
         // keep the product exact.

@@ -5,7 +5,7 @@
 //! evaluated by the predicates in a filtered or exact ring. The halfspace a
 //! plane bounds is `a·x + b·y + c·z + d ≤ 0`.
 
-use crate::number::{cross, diff, dot, lift, Ring};
+use crate::arith::number::{cross, diff, dot, lift, Ring};
 use glam::DVec3;
 
 /// A closed halfspace bounded by an exactly defined plane.

@@ -1,0 +1,46 @@
+//! The scene box `S`.
+
+use crate::error::{check_finite, GeomError};
+use glam::DVec3;
+
+/// A closed axis-aligned box; zero thickness on any axis is allowed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    pub min: DVec3,
+    pub max: DVec3,
+}
+
+impl Aabb {
+    pub fn new(min: DVec3, max: DVec3) -> Result<Aabb, GeomError> {
+        let b = Aabb { min, max };
+        b.validate()?;
+        Ok(b)
+    }
+
+    pub(crate) fn validate(&self) -> Result<(), GeomError> {
+        check_finite(self.min, "scene box min")?;
+        check_finite(self.max, "scene box max")?;
+        for axis in 0..3 {
+            if self.min[axis] > self.max[axis] {
+                return Err(GeomError::InvertedBox { axis });
+            }
+        }
+        Ok(())
+    }
+
+    /// The smallest box containing the points (exact: no arithmetic).
+    pub fn around(points: &[DVec3]) -> Option<Aabb> {
+        let first = *points.first()?;
+        let (mut min, mut max) = (first, first);
+        for p in points {
+            min = min.min(*p);
+            max = max.max(*p);
+        }
+        Some(Aabb { min, max })
+    }
+
+    /// Whether `p` lies in the closed box (exact comparisons).
+    pub fn contains(&self, p: DVec3) -> bool {
+        p.cmpge(self.min).all() && p.cmple(self.max).all()
+    }
+}
