@@ -63,14 +63,14 @@ fn compare(k: usize, line: &str) {
         assert_eq!(a.split_depths(), b.split_depths());
         assert_eq!(a.maps().len(), b.maps().len());
         for (x, y) in a.maps().iter().zip(b.maps()) {
-            assert_eq!(x.state, y.state);
-            assert_eq!(x.matrix.to_cols_array().map(f64::to_bits), y.matrix.to_cols_array().map(f64::to_bits));
+            assert_eq!(x.fit, y.fit);
+            assert_eq!(x.fit.clip_from_world.to_cols_array().map(f64::to_bits), y.fit.clip_from_world.to_cols_array().map(f64::to_bits));
             assert_eq!(x.body().vertices(), y.body().vertices());
             if !x.is_active() {
                 continue;
             }
             for p in x.body().vertices() {
-                let q = x.matrix * p.extend(1.0);
+                let q = x.fit.clip_from_world * p.extend(1.0);
                 assert!(
                     q.w > 0.0 && q.x.abs() <= q.w && q.y.abs() <= q.w && q.z >= 0.0 && q.z <= q.w,
                     "vertex {p} of map {} outside its clip volume: {q}",

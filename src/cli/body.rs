@@ -86,8 +86,8 @@ pub fn case_median_ns(mut f: impl FnMut()) -> f64 {
     let t = Instant::now();
     f();
     let one = t.elapsed().as_nanos().max(1) as f64;
-    // NOTE: a batch of ≥ 20 µs keeps the timer's own cost (~30 ns a reading
-    // here) under 0.2 % of what it measures.
+    // NOTE: a batch of ≥ 20 µs keeps the timer's own cost (tens of
+    // nanoseconds a reading) a small fraction of what it measures.
     let batch = ((20_000.0 / one) as usize).clamp(1, 256);
     let reps = ((2e6 / (one * batch as f64)) as usize).clamp(15, 2000);
     let mut samples = Vec::with_capacity(reps);

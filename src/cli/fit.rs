@@ -104,11 +104,11 @@ fn result_json(case: &Case, settings: &FocusSettings, r: &FocusResult) -> Value 
             let vertices: Vec<[f64; 3]> = body.vertices().iter().map(|v| v.to_array()).collect();
             json!({
                 "split": m.split_range,
-                "state": format!("{:?}", m.state).to_lowercase(),
+                "state": format!("{:?}", m.fit.state).to_lowercase(),
                 "face": m.face.map(|f| f.name()),
-                "matrix": m.matrix.to_cols_array(),
-                "depth_test": m.depth_test.name(),
-                "texel_size": m.texel_size.map(|t| if t.is_finite() { Value::from(t) } else { Value::Null }),
+                "matrix": m.fit.clip_from_world.to_cols_array(),
+                "depth_test": m.fit.depth_test.name(),
+                "texel_size": m.fit.texel_size.map(|t| if t.is_finite() { Value::from(t) } else { Value::Null }),
                 "utilisation": m.utilisation(),
                 "light_near": m.light_near,
                 "body": {"dimension": body.dimension().as_i32(), "vertices": vertices},

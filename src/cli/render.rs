@@ -61,8 +61,8 @@ pub fn fit_frame(scene: &Scene, frame: &Frame, aspect: f64, settings: &FocusSett
         utilisation.push(m.utilisation());
         let n = cull_casters(m, &boxes, &mut idx).map_err(|e| e.to_string())?;
         specs.push(ShadowMapSpec {
-            world_to_clip: m.matrix_f32,
-            depth_test: match m.depth_test {
+            world_to_clip: m.fit.clip_from_world_f32,
+            depth_test: match m.fit.depth_test {
                 DepthTest::Less => render::DepthTest::Less,
                 DepthTest::Greater => render::DepthTest::Greater,
             },

@@ -252,10 +252,10 @@ fn check_fits(c: &StressCase, o: &mut StressOutcome, result: &mut FocusResult) {
         }
         for m in result.maps().iter().filter(|m| m.is_active()) {
             o.maps_checked += 1;
-            if !m.body().vertices().iter().all(|v| in_clip_volume(&m.matrix, *v)) {
+            if !m.body().vertices().iter().all(|v| in_clip_volume(&m.fit.clip_from_world, *v)) {
                 o.maps_not_containing += 1;
             }
-            o.max_condition = o.max_condition.max(condition(&m.matrix));
+            o.max_condition = o.max_condition.max(condition(&m.fit.clip_from_world));
         }
     }
 }

@@ -76,17 +76,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     continue;
                 }
                 let n = cull_casters(map, &casters, &mut caster_ids)?;
-                // An engine uploads `map.matrix_f32` (world → clip, z in [0, 1])
-                // and sets its depth compare from `map.depth_test`, then draws
+                // An engine uploads `map.fit.clip_from_world_f32` (world → clip, z in [0, 1])
+                // and sets its depth compare from `map.fit.depth_test`, then draws
                 // the casters `caster_ids[..n]` into this map.
                 println!(
                     "  {name} split {} [{:.1}, {:.1}] m: depth test {}, texel {:.3}–{:.3} m, {n}/{} casters",
                     map.split,
                     map.split_range[0],
                     map.split_range[1],
-                    map.depth_test.name(),
-                    map.texel_size[0],
-                    map.texel_size[1],
+                    map.fit.depth_test.name(),
+                    map.fit.texel_size[0],
+                    map.fit.texel_size[1],
                     casters.len(),
                 );
             }

@@ -5,7 +5,7 @@ use crate::error::FocusError;
 use crate::frame::{perpendicular_hint, tangent_frame};
 use crate::methods::{fit_body, light_point, Fitted, SplitView};
 use crate::project::texel_size;
-use crate::result::{CubeFace, DepthTest, FocusResult, MapState, Notes, ShadowMap, Skipped};
+use crate::result::{CubeFace, DepthTest, FocusResult, MapFit, MapState, Notes, ShadowMap, Skipped};
 use crate::settings::{FocusSettings, Method, PointMode};
 use crate::splits::split_depths;
 use crate::MAX_SPLITS;
@@ -321,9 +321,7 @@ fn begin(map: &mut ShadowMap, sv: &SplitView, split: usize, face: Option<CubeFac
     map.face = face;
     map.split_range = [sv.camera.near, sv.camera.far];
     set_light(&mut map.light, light);
-    map.psm_shift = 0.0;
-    map.warp_near = f64::INFINITY;
-    map.method = sv.settings.method;
+    map.fit = MapFit::empty(sv.settings.method);
     // Nothing is left out near a directional or spot light (a spot's own
     // near plane is part of L); `point_maps` sets a point light's r.
     map.light_near = 0.0;
@@ -356,16 +354,7 @@ fn finish(map: &mut ShadowMap, sv: &SplitView) -> bool {
 }
 
 fn store(map: &mut ShadowMap, sv: &SplitView, f: &Fitted) {
-    let r = map_fit(sv, &map.light, f);
-    map.state = r.state;
-    map.matrix = r.matrix;
-    map.matrix_f32 = r.matrix_f32;
-    map.depth_test = r.depth_test;
-    map.texel_size = r.texel_size;
-    map.method = r.method;
-    map.warp_near = r.warp_near;
-    map.psm_shift = r.psm_shift;
-    map.f32_exact = r.f32_exact;
+    map.fit = map_fit(sv, &map.light, f);
     let mut notes = Notes(0);
     for (set, note) in
         [(f.psm_fell_back, Notes::PSM_FELL_BACK), (f.stable_ignored, Notes::STABLE_IGNORED), (f.warp_limited, Notes::WARP_LIMITED)]
@@ -385,8 +374,8 @@ fn map_fit(sv: &SplitView, light: &Light, f: &Fitted) -> MapFit {
     let (eye, fwd) = (sv.camera.eye, sv.basis.forward);
     MapFit {
         state: MapState::Active,
-        matrix: f.m,
-        matrix_f32: f32_matrix(&f.m, sv.settings.f32_origin),
+        clip_from_world: f.m,
+        clip_from_world_f32: f32_matrix(&f.m, sv.settings.f32_origin),
         f32_exact: f.f32_exact,
         // The depth row's side of the light decides the test (see `project`).
         depth_test: if f.m.row(2).dot(lp) < 0.0 { DepthTest::Less } else { DepthTest::Greater },
@@ -409,21 +398,6 @@ fn f32_matrix(m: &DMat4, origin: DVec3) -> Mat4 {
     }
 }
 
-/// The matrices of one map, as [`fit_map`] returns them (the same fields
-/// as [`ShadowMap`]).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MapFit {
-    pub state: MapState,
-    pub matrix: DMat4,
-    pub matrix_f32: Mat4,
-    pub f32_exact: bool,
-    pub depth_test: DepthTest,
-    pub texel_size: [f64; 2],
-    pub method: Method,
-    pub warp_near: f64,
-    pub psm_shift: f64,
-}
-
 /// Fits one map to a body the caller computed (for engines with their own
 /// bodies, and to time the fitting alone). `camera` is the split's camera
 /// (its near and far are the split range); `settings.splits` is ignored. A
@@ -432,17 +406,7 @@ pub fn fit_map(camera: &Camera, light: &Light, body: &Body, settings: &FocusSett
     settings.validate()?;
     let basis = camera.basis()?;
     if body.is_empty() {
-        return Ok(MapFit {
-            state: MapState::Empty,
-            matrix: DMat4::ZERO,
-            matrix_f32: Mat4::ZERO,
-            f32_exact: true,
-            depth_test: DepthTest::Less,
-            texel_size: [f64::INFINITY; 2],
-            method: settings.method,
-            warp_near: f64::INFINITY,
-            psm_shift: 0.0,
-        });
+        return Ok(MapFit::empty(settings.method));
     }
     let sv = SplitView { camera, basis, settings };
     let f = fit_body(&sv, light, body)
@@ -676,17 +640,17 @@ fn plan(out: &mut FocusResult, settings: &FocusSettings, light: &Light, scene: &
             light_clip &= map.body.stats().light_clip_skipped;
             scene_clip &= map.body.stats().scene_clip_skipped;
         }
-        if map.state == MapState::Empty {
+        if map.fit.state == MapState::Empty {
             skipped.insert(Skipped::EMPTY_MAPS);
             continue;
         }
-        any_shift |= map.psm_shift > 0.0;
+        any_shift |= map.fit.psm_shift > 0.0;
         notes.insert(map.notes);
         skipped.insert(map.skipped);
-        if map.depth_test == DepthTest::Greater {
+        if map.fit.depth_test == DepthTest::Greater {
             notes.insert(Notes::INVERTED);
         }
-        if !map.f32_exact {
+        if !map.fit.f32_exact {
             notes.insert(Notes::F32_IMPRECISE);
         }
     }

@@ -13,13 +13,13 @@
 //!
 //! # Conventions
 //!
-//! [`ShadowMap::matrix`] maps world points to clip space in the
+//! [`MapFit::clip_from_world`] (a [`ShadowMap`]'s `fit`) maps world points to clip space in the
 //! wgpu/D3D/Vulkan convention: after dividing by `w`, `x, y ∈ [−1, 1]` and
 //! depth `z ∈ [0, 1]`. Render the map with the comparison
-//! [`ShadowMap::depth_test`] (`Less`, or `Greater` for PSM's inverted
+//! [`MapFit::depth_test`] (`Less`, or `Greater` for PSM's inverted
 //! lights) and sample it with the same comparison. Every vertex of the
 //! map's body lies inside the clip volume `w > 0, −w ≤ x, y ≤ w,
-//! 0 ≤ z ≤ w`, in f64 and also with [`ShadowMap::matrix_f32`] evaluated in
+//! 0 ≤ z ≤ w`, in f64 and also with [`MapFit::clip_from_world_f32`] evaluated in
 //! f32. Split ranges are view depths along the camera's forward axis;
 //! [`FocusResult::split_clip_depths`] gives the same planes as depths of the
 //! right-handed camera projection with depth in `[0, 1]` (glam's `dcamera::rh::proj::directx::perspective`):
@@ -68,9 +68,9 @@
 //! let casters = [Aabb::new(DVec3::new(-1.0, 0.0, -5.0), DVec3::new(1.0, 3.0, -3.0))?];
 //! let mut visible = [0u32; 1];
 //! for map in frame.maps().iter().filter(|m| m.is_active()) {
-//!     let _upload: [f32; 16] = map.matrix_f32.to_cols_array();
+//!     let _upload: [f32; 16] = map.fit.clip_from_world_f32.to_cols_array();
 //!     let n = cull_casters(map, &casters, &mut visible)?;
-//!     // render casters visible[..n] into the map with map.depth_test …
+//!     // render casters visible[..n] into the map with map.fit.depth_test …
 //!     # let _ = n;
 //! }
 //! assert_eq!(frame.split_depths().len(), 5);
@@ -95,9 +95,9 @@ mod splits;
 pub use camera::{camera_from_corners, RecoveredCamera};
 pub use cull::{cull_casters, CasterRegion, MAX_REGION_PLANES};
 pub use error::FocusError;
-pub use fit::{fit, fit_frustum, fit_map, fit_prepared, MapFit, PreparedView};
+pub use fit::{fit, fit_frustum, fit_map, fit_prepared, PreparedView};
 pub use frame::S0 as ORIENTATION_BLEND_SIN;
-pub use result::{CubeFace, DepthTest, FocusResult, MapState, Notes, ShadowMap, Skipped};
+pub use result::{CubeFace, DepthTest, FocusResult, MapFit, MapState, Notes, ShadowMap, Skipped};
 pub use settings::{
     FocusSettings, LightNear, LispsmSettings, MapOrientation, Method, PointMode, PsmSettings, SplitScheme, SplitSettings, TsmSettings,
     WarpDirection,

@@ -41,10 +41,12 @@ pub(crate) const MAX_SAMPLES: usize = 9;
 /// Receiver samples of one split.
 pub(crate) struct Samples {
     pts: [DVec3; MAX_SAMPLES],
-    /// The receiver's unit normal at each sample: the scene box face the
-    /// camera ray leaves through, or (`None`) the light's ray there, set by
-    /// [`Samples::judge`].
-    normal: [Option<DVec3>; MAX_SAMPLES],
+    /// The scene box face the camera ray leaves through at each sample;
+    /// `None` where the ray reaches the far plane first.
+    face: [Option<DVec3>; MAX_SAMPLES],
+    /// The receiver's unit normal at each sample (after [`Samples::judge`]):
+    /// the face's, or the light's ray there where there is no face.
+    normal: [DVec3; MAX_SAMPLES],
     /// The camera's area magnification `a_C` at each sample (after
     /// [`Samples::judge`]).
     camera: [f64; MAX_SAMPLES],
@@ -88,7 +90,8 @@ impl Samples {
     pub fn new(sv: &SplitView, body: &Body) -> Samples {
         let mut s = Samples {
             pts: [DVec3::ZERO; MAX_SAMPLES],
-            normal: [None; MAX_SAMPLES],
+            face: [None; MAX_SAMPLES],
+            normal: [DVec3::Z; MAX_SAMPLES],
             camera: [0.0; MAX_SAMPLES],
             clip_from_world: post_perspective(sv.camera, &sv.basis, 0.0),
             reference: [1.0; MAX_SAMPLES],
@@ -105,7 +108,7 @@ impl Samples {
                 let d = b.forward + b.right * (gx * tx) + b.up * (gy * ty);
                 let Some(exit) = clip_ray(cam.eye, d, cam.near, cam.far, lo, hi) else { continue };
                 s.pts[s.len] = cam.eye + d * exit.depth;
-                s.normal[s.len] = exit.axis.map(|k| DVec3::AXES[k]);
+                s.face[s.len] = exit.axis.map(|k| DVec3::AXES[k]);
                 s.len += 1;
             }
         }
@@ -117,12 +120,13 @@ impl Samples {
     pub fn judge(&mut self, reference: &DMat4, lp: DVec4) -> Option<Predicted> {
         let mut k = 0;
         for i in 0..self.len {
-            let n = self.normal[i].unwrap_or_else(|| {
+            let n = self.face[i].unwrap_or_else(|| {
                 let t = self.pts[i] * lp.w - lp.truncate();
                 t / t.length()
             });
             self.pts[k] = self.pts[i];
-            self.normal[k] = Some(n);
+            self.face[k] = self.face[i];
+            self.normal[k] = n;
             self.camera[k] = image_area_scale(&self.clip_from_world, self.pts[i], n);
             let e = self.aliasing(reference, k);
             if e.is_finite() && e > 0.0 {
@@ -136,8 +140,7 @@ impl Samples {
 
     /// Aliasing of `m` at sample `i` (as `e` above, up to the common factor).
     fn aliasing(&self, m: &DMat4, i: usize) -> f64 {
-        let n = self.normal[i].unwrap_or(DVec3::Z);
-        (self.camera[i] / image_area_scale(m, self.pts[i], n)).sqrt()
+        (self.camera[i] / image_area_scale(m, self.pts[i], self.normal[i])).sqrt()
     }
 
     /// The prediction for the clip matrix `m` of the light given to

@@ -68,34 +68,30 @@ impl CubeFace {
     }
 }
 
-/// One shadow map.
+/// A fitted projection: what an engine uploads and renders one map with.
 ///
-/// `matrix` maps world points to the shadow map's clip space in the
+/// `clip_from_world` maps world points to the map's clip space in the
 /// wgpu/D3D/Vulkan convention: after the divide by `w`, `x, y ∈ [−1, 1]`
-/// (`+y` up in the map) and depth `z ∈ [0, 1]`. Every vertex of `body` lies
-/// in the clip volume `w > 0, −w ≤ x, y ≤ w, 0 ≤ z ≤ w`. `matrix_f32` is
-/// `matrix · translate(f32_origin)` in f32: applied in f32 arithmetic to a
-/// vertex's position relative to [`crate::FocusSettings::f32_origin`],
-/// rounded to f32, it keeps the vertex inside too — whenever `f32_exact`
-/// is true (false only when f32 cannot resolve the body at that distance
-/// from the origin; then rebase). Columns are glam's (column-major) order.
-#[derive(Clone, Debug)]
-pub struct ShadowMap {
+/// (`+y` up in the map) and depth `z ∈ [0, 1]`. Every vertex of the map's
+/// body lies in the clip volume `w > 0, −w ≤ x, y ≤ w, 0 ≤ z ≤ w`.
+/// `clip_from_world_f32` is `clip_from_world · translate(f32_origin)` in
+/// f32: applied in f32 arithmetic to a vertex's position relative to
+/// [`crate::FocusSettings::f32_origin`], rounded to f32, it keeps the vertex
+/// inside too — whenever `f32_exact` is true (false only when f32 cannot
+/// resolve the body at that distance from the origin; then rebase). Columns
+/// are glam's (column-major) order.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MapFit {
     pub state: MapState,
-    /// Index of the split this map serves.
-    pub split: usize,
-    /// The cube face, for omnidirectional point lights.
-    pub face: Option<CubeFace>,
-    /// The split's view-depth range `[z0, z1]` along the camera's forward axis.
-    pub split_range: [f64; 2],
-    pub matrix: DMat4,
-    pub matrix_f32: Mat4,
+    pub clip_from_world: DMat4,
+    pub clip_from_world_f32: Mat4,
     /// Whether the f32 guarantee above holds.
     pub f32_exact: bool,
     pub depth_test: DepthTest,
     /// World size of one texel (square root of its footprint area on the
-    /// plane perpendicular to the light ray) on the camera axis at `z0` and
-    /// `z1`; infinite where the map does not see that point.
+    /// plane perpendicular to the light ray) on the camera axis at the
+    /// split's near and far depth; infinite where the map does not see that
+    /// point.
     pub texel_size: [f64; 2],
     /// The method that produced the matrix (PSM may fall back to uniform).
     pub method: Method,
@@ -105,6 +101,38 @@ pub struct ShadowMap {
     pub warp_near: f64,
     /// PSM's virtual camera shift along −forward (0 when none was needed).
     pub psm_shift: f64,
+}
+
+impl MapFit {
+    /// The fit of an empty body: nothing to render, a zero matrix (never
+    /// NaN), infinite texels.
+    pub fn empty(method: Method) -> MapFit {
+        MapFit {
+            state: MapState::Empty,
+            clip_from_world: DMat4::ZERO,
+            clip_from_world_f32: Mat4::ZERO,
+            f32_exact: true,
+            depth_test: DepthTest::Less,
+            texel_size: [f64::INFINITY; 2],
+            method,
+            warp_near: f64::INFINITY,
+            psm_shift: 0.0,
+        }
+    }
+}
+
+/// One shadow map: a split (or cube face) of one light, its focus body and
+/// the projection fitted to it ([`MapFit`]).
+#[derive(Clone, Debug)]
+pub struct ShadowMap {
+    /// Index of the split this map serves.
+    pub split: usize,
+    /// The cube face, for omnidirectional point lights.
+    pub face: Option<CubeFace>,
+    /// The split's view-depth range `[z0, z1]` along the camera's forward axis.
+    pub split_range: [f64; 2],
+    /// The fitted projection: its matrices, depth test and texel sizes.
+    pub fit: MapFit,
     /// For point lights, the distance `r` from the light within which
     /// casters may be left out of this map (see [`crate::LightNear`]); 0
     /// where the map leaves nothing out (directional and spot lights).
@@ -124,18 +152,10 @@ pub struct ShadowMap {
 impl ShadowMap {
     pub(crate) fn new() -> ShadowMap {
         ShadowMap {
-            state: MapState::Empty,
             split: 0,
             face: None,
             split_range: [0.0; 2],
-            matrix: DMat4::ZERO,
-            matrix_f32: Mat4::ZERO,
-            f32_exact: true,
-            depth_test: DepthTest::Less,
-            texel_size: [f64::INFINITY; 2],
-            method: Method::Uniform,
-            warp_near: f64::INFINITY,
-            psm_shift: 0.0,
+            fit: MapFit::empty(Method::Uniform),
             light_near: 0.0,
             light: Light::Directional { direction: glam::DVec3::NEG_Y },
             body: Body::new(),
@@ -156,14 +176,7 @@ impl ShadowMap {
     }
 
     pub(crate) fn set_empty(&mut self) {
-        self.state = MapState::Empty;
-        self.f32_exact = true;
-        self.matrix = DMat4::ZERO;
-        self.matrix_f32 = Mat4::ZERO;
-        self.depth_test = DepthTest::Less;
-        self.texel_size = [f64::INFINITY; 2];
-        self.warp_near = f64::INFINITY;
-        self.psm_shift = 0.0;
+        self.fit = MapFit::empty(self.fit.method);
     }
 
     /// Where this map departed from the requested method, and why (the
@@ -179,7 +192,7 @@ impl ShadowMap {
     }
 
     pub fn is_active(&self) -> bool {
-        self.state == MapState::Active
+        self.fit.state == MapState::Active
     }
 
     /// Fraction of the map's area `[−1, 1]²` that the projection of its
@@ -190,7 +203,7 @@ impl ShadowMap {
         if !self.is_active() {
             return 0.0;
         }
-        crate::project::utilisation(&self.matrix, self.body().vertices())
+        crate::project::utilisation(&self.fit.clip_from_world, self.body().vertices())
     }
 }
 

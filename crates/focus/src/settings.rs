@@ -203,7 +203,7 @@ pub struct FocusSettings {
     /// inputs).
     pub warp_guard: bool,
     /// Origin of the positions the f32 matrix is applied to:
-    /// [`crate::ShadowMap::matrix_f32`] maps `p − f32_origin` (rounded to
+    /// [`crate::MapFit::clip_from_world_f32`] maps `p − f32_origin` (rounded to
     /// f32) and its rounding margins are computed for those magnitudes.
     /// Zero means world positions; an engine that renders camera-relative
     /// (large worlds) passes its rebasing origin, e.g. the camera position.

@@ -76,13 +76,13 @@ fn fixture_cases_are_contained() {
             fit_frustum(&view, &rec.camera, &light, &scene, &s, &mut out).unwrap_or_else(|e| panic!("{id}: {e}"));
             for m in out.maps().iter().filter(|m| m.is_active()) {
                 for p in m.body().vertices() {
-                    assert!(inside_f64(&m.matrix, *p), "{id}: {p} outside ({:?})", s.method);
-                    if m.f32_exact {
-                        assert!(inside_f32(&m.matrix_f32, *p - s.f32_origin), "{id}: {p} outside in f32 ({:?})", s.method);
+                    assert!(inside_f64(&m.fit.clip_from_world, *p), "{id}: {p} outside ({:?})", s.method);
+                    if m.fit.f32_exact {
+                        assert!(inside_f32(&m.fit.clip_from_world_f32, *p - s.f32_origin), "{id}: {p} outside in f32 ({:?})", s.method);
                     }
                 }
                 checked_maps += 1;
-                f32_inexact += !m.f32_exact as usize;
+                f32_inexact += !m.fit.f32_exact as usize;
             }
             if let Some(exp) = expected.get(&id) {
                 // Every exact (CGAL) vertex of H of the given corners lies in
@@ -99,7 +99,7 @@ fn fixture_cases_are_contained() {
                     );
                 }
                 for p in &verts {
-                    let held = out.maps().iter().filter(|m| m.is_active()).any(|m| inside_f64(&m.matrix, *p));
+                    let held = out.maps().iter().filter(|m| m.is_active()).any(|m| inside_f64(&m.fit.clip_from_world, *p));
                     let near_light = match light {
                         Light::Point { position } | Light::Spot { position, .. } => {
                             (*p - position).length() <= out.maps().iter().map(|m| m.light_near).fold(0.0, f64::max) * 1.7321

@@ -21,7 +21,7 @@ fn fit1(cam: &Camera, light: &Light, scene: &Aabb, s: &FocusSettings) -> FocusRe
     fit(cam, light, scene, s, &mut out).unwrap();
     for m in out.maps().iter().filter(|m| m.is_active()) {
         for p in m.body().vertices() {
-            assert!(inside_f64(&m.matrix, *p) && inside_f32(&m.matrix_f32, *p));
+            assert!(inside_f64(&m.fit.clip_from_world, *p) && inside_f32(&m.fit.clip_from_world_f32, *p));
         }
     }
     out
@@ -38,7 +38,7 @@ fn psm() -> FocusSettings {
 fn psm_directional_from_front_is_a_point_light_without_shift() {
     let out = fit1(&camera(), &Light::directional(DVec3::new(0.1, -0.3, 1.0)).unwrap(), &scene(), &psm());
     let m = &out.maps()[0];
-    assert_eq!((m.method, m.depth_test, m.psm_shift), (Method::Psm, DepthTest::Less, 0.0));
+    assert_eq!((m.fit.method, m.fit.depth_test, m.fit.psm_shift), (Method::Psm, DepthTest::Less, 0.0));
     assert!(out.skipped.contains(Skipped::PSM_SHIFT));
     assert!(!out.notes.contains(Notes::INVERTED));
 }
@@ -48,12 +48,12 @@ fn psm_directional_from_behind_is_inverted_with_minimal_shift() {
     let cam = camera();
     let out = fit1(&cam, &Light::directional(DVec3::new(0.1, -0.3, -1.0)).unwrap(), &scene(), &psm());
     let m = &out.maps()[0];
-    assert_eq!((m.method, m.depth_test), (Method::Psm, DepthTest::Greater));
+    assert_eq!((m.fit.method, m.fit.depth_test), (Method::Psm, DepthTest::Greater));
     assert!(out.notes.contains(Notes::INVERTED) && !out.skipped.contains(Skipped::PSM_SHIFT));
     // Minimal: H's nearest point ends exactly at the kept near distance.
     let zmin = m.body().vertices().iter().map(|p| cam.forward.dot(*p - cam.eye)).fold(f64::INFINITY, f64::min);
-    assert!(m.psm_shift > 0.0);
-    assert!((zmin + m.psm_shift - cam.near).abs() < 1e-12 * 200.0, "{} {}", zmin, m.psm_shift);
+    assert!(m.fit.psm_shift > 0.0);
+    assert!((zmin + m.fit.psm_shift - cam.near).abs() < 1e-12 * 200.0, "{} {}", zmin, m.fit.psm_shift);
 }
 
 #[test]
@@ -61,7 +61,7 @@ fn psm_light_parallel_to_image_plane_stays_directional() {
     // f·d = 0 exactly: the transformed light is at infinity (w = 0).
     let out = fit1(&camera(), &Light::directional(DVec3::new(0.3, -1.0, 0.0)).unwrap(), &scene(), &psm());
     let m = &out.maps()[0];
-    assert_eq!((m.method, m.depth_test, m.psm_shift), (Method::Psm, DepthTest::Less, 0.0));
+    assert_eq!((m.fit.method, m.fit.depth_test, m.fit.psm_shift), (Method::Psm, DepthTest::Less, 0.0));
 }
 
 #[test]
@@ -76,7 +76,7 @@ fn psm_point_lights_in_front_behind_and_in_the_camera_plane() {
         let out = fit1(&cam, &Light::point(l).unwrap(), &scene, &psm());
         assert_eq!(out.maps().len(), 1, "{l}");
         let m = &out.maps()[0];
-        assert_eq!((m.method, m.depth_test), (Method::Psm, want), "{l}");
+        assert_eq!((m.fit.method, m.fit.depth_test), (Method::Psm, want), "{l}");
     }
 }
 
@@ -122,7 +122,7 @@ fn lispsm_n_opt_matches_the_formula() {
             dz = dz.min(vf - cam.near);
         }
         let n_opt = cam.near + (z0 * (z0 + dz)).sqrt();
-        assert!((m.warp_near - n_opt).abs() < 1e-9 * n_opt, "{vf:?}: {} vs {n_opt}", m.warp_near);
+        assert!((m.fit.warp_near - n_opt).abs() < 1e-9 * n_opt, "{vf:?}: {} vs {n_opt}", m.fit.warp_near);
     }
 }
 
@@ -135,7 +135,7 @@ fn lispsm_fades_into_uniform_as_gamma_vanishes() {
         let a = 0.2 * 0.3f64.powi(5 - k) * (k as f64 + 1.0) / 6.0;
         let d = DVec3::new(0.0, -a.sin(), -a.cos());
         let out = fit1(&cam, &Light::directional(d).unwrap(), &scene, &lispsm(None));
-        let n = out.maps()[0].warp_near;
+        let n = out.maps()[0].fit.warp_near;
         assert!(n.is_finite() && n > last, "n_opt must grow as γ shrinks: {n} after {last}");
         last = n;
     }
@@ -143,8 +143,8 @@ fn lispsm_fades_into_uniform_as_gamma_vanishes() {
     let sun = Light::directional(cam.forward).unwrap();
     let l = fit1(&cam, &sun, &scene, &lispsm(None));
     let u = fit1(&cam, &sun, &scene, &FocusSettings::default());
-    assert!(l.skipped.contains(Skipped::WARP) && l.maps()[0].warp_near == f64::INFINITY);
-    let (a, b) = (l.maps()[0].matrix, u.maps()[0].matrix);
+    assert!(l.skipped.contains(Skipped::WARP) && l.maps()[0].fit.warp_near == f64::INFINITY);
+    let (a, b) = (l.maps()[0].fit.clip_from_world, u.maps()[0].fit.clip_from_world);
     assert!(a.abs_diff_eq(b, 1e-12 * b.to_cols_array().iter().fold(0.0f64, |m, x| m.max(x.abs()))), "{a} vs {b}");
 }
 
@@ -160,8 +160,8 @@ fn lispsm_middle_vector_differs_but_is_valid() {
     };
     let a = fit1(&cam, &sun, &scene(), &s);
     let b = fit1(&cam, &sun, &scene(), &lispsm(None));
-    assert!(a.maps()[0].warp_near.is_finite());
-    assert!(!a.maps()[0].matrix.abs_diff_eq(b.maps()[0].matrix, 1e-6));
+    assert!(a.maps()[0].fit.warp_near.is_finite());
+    assert!(!a.maps()[0].fit.clip_from_world.abs_diff_eq(b.maps()[0].fit.clip_from_world, 1e-6));
 }
 
 #[test]
@@ -172,9 +172,9 @@ fn tsm_puts_the_focus_point_on_the_80_percent_line() {
         let s = FocusSettings { method: Method::Tsm, tsm: TsmSettings { focus }, warp_guard: false, ..Default::default() };
         let out = fit1(&cam, &Light::directional(d).unwrap(), &scene, &s);
         let m = &out.maps()[0];
-        assert!(m.warp_near.is_finite(), "{d}: no warp");
+        assert!(m.fit.warp_near.is_finite(), "{d}: no warp");
         let p = cam.eye + cam.forward * (cam.near + focus * (cam.far - cam.near));
-        let q = m.matrix * p.extend(1.0);
+        let q = m.fit.clip_from_world * p.extend(1.0);
         assert!((q.y / q.w - 0.6).abs() < 1e-5, "{d}: focus point at y = {}", q.y / q.w);
     }
 }
@@ -195,11 +195,11 @@ fn stable_maps_snap_to_texels_and_ignore_rotation() {
         let b = fit1(&cam, &sun, &scene, &s);
         for (ma, mb) in a.maps().iter().zip(b.maps()) {
             // Same extent (texel size) bit for bit …
-            assert_eq!(ma.matrix.row(0).truncate(), mb.matrix.row(0).truncate());
-            assert_eq!(ma.matrix.row(1).truncate(), mb.matrix.row(1).truncate());
+            assert_eq!(ma.fit.clip_from_world.row(0).truncate(), mb.fit.clip_from_world.row(0).truncate());
+            assert_eq!(ma.fit.clip_from_world.row(1).truncate(), mb.fit.clip_from_world.row(1).truncate());
             // … and the origin moved by whole texels.
             for r in 0..2 {
-                let shift = (ma.matrix.row(r).w - mb.matrix.row(r).w) * s.resolution as f64 / 2.0;
+                let shift = (ma.fit.clip_from_world.row(r).w - mb.fit.clip_from_world.row(r).w) * s.resolution as f64 / 2.0;
                 assert!((shift - shift.round()).abs() < 1e-6, "row {r}: shift {shift} texels");
             }
         }
@@ -219,9 +219,9 @@ fn empty_body_gives_an_explicit_empty_map() {
         let out = fit1(&camera(), &Light::directional(DVec3::new(0.0, 0.0, 1.0)).unwrap(), &scene, &s);
         assert_eq!(out.maps().len(), 2);
         for m in out.maps() {
-            assert_eq!(m.state, MapState::Empty);
-            assert_eq!(m.matrix, glam::DMat4::ZERO);
-            assert!(m.texel_size.iter().all(|t| *t == f64::INFINITY));
+            assert_eq!(m.fit.state, MapState::Empty);
+            assert_eq!(m.fit.clip_from_world, glam::DMat4::ZERO);
+            assert!(m.fit.texel_size.iter().all(|t| *t == f64::INFINITY));
             assert!(m.body().is_empty());
         }
         assert!(out.skipped.contains(Skipped::EMPTY_MAPS));
@@ -318,7 +318,12 @@ fn maps_hold_bodies_where_w_is_below_its_rounding_bound() {
                 fit(&cam, &light, &scene, &s, &mut out).unwrap();
                 for m in out.maps().iter().filter(|m| m.is_active()) {
                     for p in m.body().vertices() {
-                        assert!(inside_f64(&m.matrix, *p), "{method:?} {count} {point:?}: split {} face {:?} loses {p}", m.split, m.face);
+                        assert!(
+                            inside_f64(&m.fit.clip_from_world, *p),
+                            "{method:?} {count} {point:?}: split {} face {:?} loses {p}",
+                            m.split,
+                            m.face
+                        );
                     }
                 }
             }
@@ -420,7 +425,7 @@ fn corners_form_reproduces_the_camera_fit() {
         assert!((x - y).abs() < 1e-9 * y.abs());
     }
     for (x, y) in a.maps().iter().zip(b.maps()) {
-        assert!(x.matrix.abs_diff_eq(y.matrix, 1e-6), "{} vs {}", x.matrix, y.matrix);
+        assert!(x.fit.clip_from_world.abs_diff_eq(y.fit.clip_from_world, 1e-6), "{} vs {}", x.fit.clip_from_world, y.fit.clip_from_world);
     }
     // A spot light whose frustum is the view itself: L ⊇ V.
     let spot = Light::spot(
@@ -475,16 +480,16 @@ fn long_and_short_light_directions_fit_like_unit_ones() {
             let out = fit1(&cam, &Light::directional(dk).unwrap(), &scene, s);
             assert_eq!(out.notes, unit.notes, "2^{e} {:?}", s.method);
             for (a, b) in out.maps().iter().zip(unit.maps()) {
-                assert_eq!(a.matrix, b.matrix, "2^{e} {:?}", s.method);
-                assert_eq!(a.depth_test, b.depth_test);
+                assert_eq!(a.fit.clip_from_world, b.fit.clip_from_world, "2^{e} {:?}", s.method);
+                assert_eq!(a.fit.depth_test, b.fit.depth_test);
             }
         }
         for k in [1e300, 1e-300] {
             let out = fit1(&cam, &Light::directional(d * k).unwrap(), &scene, s);
             assert_eq!(out.maps().len(), unit.maps().len());
             for (a, b) in out.maps().iter().zip(unit.maps()) {
-                assert!(a.matrix.is_finite() && a.matrix.determinant() != 0.0, "{k:e} {:?}", s.method);
-                assert_eq!(a.depth_test, b.depth_test, "{k:e} {:?}", s.method);
+                assert!(a.fit.clip_from_world.is_finite() && a.fit.clip_from_world.determinant() != 0.0, "{k:e} {:?}", s.method);
+                assert_eq!(a.fit.depth_test, b.fit.depth_test, "{k:e} {:?}", s.method);
             }
             assert_eq!(out.notes.contains(Notes::INVERTED), unit.notes.contains(Notes::INVERTED));
             assert_eq!(kept(&out, &mut idx), unit_kept, "{k:e} {:?}", s.method);

@@ -36,7 +36,7 @@ fn check(cam: &Camera, scene: &Aabb, l: DVec3, s: &FocusSettings, c: &mut Counts
     for m in out.maps().iter().filter(|m| m.is_active()) {
         c.maps += 1;
         for p in m.body().vertices() {
-            if !inside_f64(&m.matrix, *p) {
+            if !inside_f64(&m.fit.clip_from_world, *p) {
                 return Err(format!("split {} face {:?}: own body vertex {p} outside", m.split, m.face));
             }
         }
@@ -61,7 +61,7 @@ fn check(cam: &Camera, scene: &Aabb, l: DVec3, s: &FocusSettings, c: &mut Counts
                 continue;
             }
             c.points_checked += 1;
-            if !maps.iter().any(|m| m.is_active() && inside_f64(&m.matrix, p)) {
+            if !maps.iter().any(|m| m.is_active() && inside_f64(&m.fit.clip_from_world, p)) {
                 let what = if k < h.vertices().len() { "vertex" } else { "interior point" };
                 return Err(format!("split {i}: {what} {p} of H_i, {} from the light (r = {r}), in no map", (p - l).length()));
             }

@@ -27,11 +27,11 @@ fn check_frame(cam: &Camera, light: &Light, scene: &Aabb, s: &FocusSettings, out
     }
     let mut splits_seen = vec![false; s.splits.count];
     for map in out.maps() {
-        prop_assert!(map.matrix.is_finite() && map.texel_size.iter().all(|t| !t.is_nan()));
+        prop_assert!(map.fit.clip_from_world.is_finite() && map.fit.texel_size.iter().all(|t| !t.is_nan()));
         prop_assert_eq!(map.split_range, [d[map.split], d[map.split + 1]]);
         splits_seen[map.split] = true;
-        if map.state == MapState::Empty {
-            prop_assert_eq!(map.matrix, glam::DMat4::ZERO);
+        if map.fit.state == MapState::Empty {
+            prop_assert_eq!(map.fit.clip_from_world, glam::DMat4::ZERO);
             prop_assert!(map.body().is_empty());
             continue;
         }
@@ -42,21 +42,21 @@ fn check_frame(cam: &Camera, light: &Light, scene: &Aabb, s: &FocusSettings, out
         // `light_near` from the light (w there is below f32's resolution of
         // the world coordinates) — then the frame says so.
         if matches!(map.light, Light::Directional { .. }) && modest_coordinates(cam, scene) {
-            prop_assert!(map.f32_exact, "f32 guarantee lost at modest coordinates");
+            prop_assert!(map.fit.f32_exact, "f32 guarantee lost at modest coordinates");
         }
-        if !map.f32_exact {
+        if !map.fit.f32_exact {
             prop_assert!(out.notes.contains(Notes::F32_IMPRECISE));
         }
         for p in body.vertices() {
-            prop_assert!(inside_f64(&map.matrix, *p), "vertex {p} outside map (f64) {:?}", map.method);
-            if map.f32_exact {
-                prop_assert!(inside_f32(&map.matrix_f32, *p), "vertex {p} outside map (f32) {:?}", map.method);
+            prop_assert!(inside_f64(&map.fit.clip_from_world, *p), "vertex {p} outside map (f64) {:?}", map.fit.method);
+            if map.fit.f32_exact {
+                prop_assert!(inside_f32(&map.fit.clip_from_world_f32, *p), "vertex {p} outside map (f32) {:?}", map.fit.method);
             }
         }
         // Rays from the light map to one texel: x, y, w rows contain L.
         let lp = light_point(&map.light);
         for r in [0, 1, 3] {
-            let row: DVec4 = map.matrix.row(r);
+            let row: DVec4 = map.fit.clip_from_world.row(r);
             // Against the row's largest entry too: a w row at infinity
             // ((≈0, ≈0, ≈0, w), an orthographic map) has xyz entries of
             // rounding size, which its own |row|·|L| does not bound.
@@ -68,7 +68,7 @@ fn check_frame(cam: &Camera, light: &Light, scene: &Aabb, s: &FocusSettings, out
         let h = focus_body(&Frustum::from_camera(&sub).unwrap(), &map.light, scene).unwrap();
         prop_assert_eq!(h.vertices().len(), body.vertices().len());
         for p in h.vertices() {
-            prop_assert!(inside_f64(&map.matrix, *p));
+            prop_assert!(inside_f64(&map.fit.clip_from_world, *p));
         }
     }
     prop_assert!(splits_seen.iter().all(|x| *x), "a split has no map");
@@ -87,7 +87,7 @@ fn check_frame(cam: &Camera, light: &Light, scene: &Aabb, s: &FocusSettings, out
             continue;
         }
         let i = (0..s.splits.count).find(|&i| d[i] <= z && z <= d[i + 1]).unwrap();
-        let covered = out.maps().iter().filter(|m| m.split == i && m.is_active()).any(|m| inside_f64(&m.matrix, p));
+        let covered = out.maps().iter().filter(|m| m.split == i && m.is_active()).any(|m| inside_f64(&m.fit.clip_from_world, p));
         // Within the split's r of a point light (the maps' light_near).
         let r = out.maps().iter().filter(|m| m.split == i).map(|m| m.light_near).fold(0.0, f64::max);
         let near_light = match light {
@@ -117,7 +117,7 @@ fn check_frame(cam: &Camera, light: &Light, scene: &Aabb, s: &FocusSettings, out
                     continue;
                 }
                 prop_assert!(
-                    maps.iter().any(|m| inside_f64(&m.matrix, *v)),
+                    maps.iter().any(|m| inside_f64(&m.fit.clip_from_world, *v)),
                     "H vertex {v} of split {i} ({} from the light, r = {r}) in no map",
                     (*v - l).length()
                 );
@@ -171,21 +171,21 @@ proptest! {
                 }
                 let near_light = p + t * (s0 + 0.01 * (s1 - s0));
                 let far_light = p + t * (s1 - 0.01 * (s1 - s0));
-                let (qa, qb) = (map.matrix * near_light.extend(1.0), map.matrix * far_light.extend(1.0));
+                let (qa, qb) = (map.fit.clip_from_world * near_light.extend(1.0), map.fit.clip_from_world * far_light.extend(1.0));
                 prop_assert!(qa.w > 0.0 && qb.w > 0.0);
                 let (xa, ya, za) = (qa.x / qa.w, qa.y / qa.w, qa.z / qa.w);
                 let (xb, yb, zb) = (qb.x / qb.w, qb.y / qb.w, qb.z / qb.w);
                 // The points are rounded: compare at the resolution their
                 // rounding leaves (coarse only far from the origin).
-                let res = ndc_sensitivity(&map.matrix, near_light) + ndc_sensitivity(&map.matrix, far_light);
+                let res = ndc_sensitivity(&map.fit.clip_from_world, near_light) + ndc_sensitivity(&map.fit.clip_from_world, far_light);
                 let tol = 1e-7 + 2.0 * res.x.max(res.y);
                 prop_assert!((xa - xb).abs() < tol && (ya - yb).abs() < tol, "not one texel: ({xa}, {ya}) vs ({xb}, {yb}), resolution {tol}");
                 if (za - zb).abs() <= 2.0 * res.z {
                     continue;
                 }
-                match map.depth_test {
-                    DepthTest::Less => prop_assert!(za < zb, "less: {za} !< {zb} ({:?})", map.method),
-                    DepthTest::Greater => prop_assert!(za > zb, "greater: {za} !> {zb} ({:?})", map.method),
+                match map.fit.depth_test {
+                    DepthTest::Less => prop_assert!(za < zb, "less: {za} !< {zb} ({:?})", map.fit.method),
+                    DepthTest::Greater => prop_assert!(za > zb, "greater: {za} !> {zb} ({:?})", map.fit.method),
                 }
             }
         }
@@ -223,10 +223,10 @@ proptest! {
             prop_assert_eq!((a.skipped, a.notes), (b.skipped, b.notes));
             prop_assert_eq!(a.maps().len(), b.maps().len());
             for (x, y) in a.maps().iter().zip(b.maps()) {
-                prop_assert_eq!((x.state, x.split, x.face, x.split_range, x.depth_test, x.method), (y.state, y.split, y.face, y.split_range, y.depth_test, y.method));
-                prop_assert_eq!(x.matrix.to_cols_array().map(f64::to_bits), y.matrix.to_cols_array().map(f64::to_bits));
-                prop_assert_eq!(x.matrix_f32.to_cols_array().map(f32::to_bits), y.matrix_f32.to_cols_array().map(f32::to_bits));
-                prop_assert_eq!(x.texel_size.map(f64::to_bits), y.texel_size.map(f64::to_bits));
+                prop_assert_eq!((x.fit.state, x.split, x.face, x.split_range, x.fit.depth_test, x.fit.method), (y.fit.state, y.split, y.face, y.split_range, y.fit.depth_test, y.fit.method));
+                prop_assert_eq!(x.fit.clip_from_world.to_cols_array().map(f64::to_bits), y.fit.clip_from_world.to_cols_array().map(f64::to_bits));
+                prop_assert_eq!(x.fit.clip_from_world_f32.to_cols_array().map(f32::to_bits), y.fit.clip_from_world_f32.to_cols_array().map(f32::to_bits));
+                prop_assert_eq!(x.fit.texel_size.map(f64::to_bits), y.fit.texel_size.map(f64::to_bits));
                 prop_assert_eq!(x.body().vertices(), y.body().vertices());
             }
         }

@@ -3,8 +3,8 @@
 use crate::error::RenderError;
 use crate::ground_truth::Visibility;
 use crate::image::Image;
-use crate::metrics::RenderMetrics;
 use crate::scene::Scene;
+use crate::stats::RenderMetrics;
 use crate::types::{validate_maps, CameraSpec, LightSpec, RenderSettings, ShadowMapSpec};
 
 /// One frame to render.

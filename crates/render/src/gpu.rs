@@ -73,7 +73,7 @@ pub struct Gpu {
     _adapter: wgpu::Adapter,
 }
 
-/// Rank for automatic choice: hardware first, then Vulkan on the CPU (≈ 4× faster than GL there).
+/// Rank for automatic choice: hardware first, then Vulkan on the CPU (faster than GL there).
 fn rank(info: &wgpu::AdapterInfo) -> u32 {
     let hw = match info.device_type {
         wgpu::DeviceType::DiscreteGpu => 40,

@@ -1,120 +1,13 @@
 //! Per-frame measurements: aliasing, agreement with ground truth, split coverage, casters, time.
 
 use glam::DVec3;
-use serde::Serialize;
 
 use crate::frame::{RenderOutput, RenderRequest};
 use crate::gpu::AdapterSummary;
 use crate::ground_truth::Visibility;
 use crate::image::PixelMatch;
 use crate::resolved::resolved_mask;
-use crate::types::RenderSettings;
-
-/// Screen pixels per shadow texel over the visible receiver pixels that a map covers and that
-/// face the light (elsewhere the shadow term is not visible).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
-pub struct AliasingStats {
-    pub max: f64,
-    pub p95: f64,
-    pub mean: f64,
-    pub pixels: u64,
-}
-
-/// Rendered lit/shadowed against the ray-cast ground truth.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
-pub struct MismatchStats {
-    /// Mismatched pixels / visible geometry pixels.
-    pub rate: f64,
-    /// The same, over pixels whose (2r+1)² neighbourhood has one ground-truth value.
-    pub rate_off_edges: f64,
-    pub pixels: u64,
-    pub mismatched: u64,
-    pub off_edge_pixels: u64,
-    pub off_edge_mismatched: u64,
-    /// Rendered shadowed but truly lit.
-    pub false_shadow: u64,
-    /// Rendered lit but truly shadowed.
-    pub false_light: u64,
-    /// The mismatch rate over the pixels the map can resolve: off edges, with aliasing at most
-    /// [`ADEQUATE_ALIASING`] screen pixels per texel, and with the ground truth at every texel
-    /// centre the shadow lookup reads (on the receiver's plane) equal to the pixel's own. A map can
-    /// only get shadows wrong there through a wrong bias, a lost caster or a broken depth order,
-    /// not through undersampling or filtering.
-    pub rate_adequate: f64,
-    pub adequate_pixels: u64,
-    pub adequate_mismatched: u64,
-}
-
-/// Largest aliasing (screen pixels per shadow-map texel) at which a pixel counts as adequately
-/// sampled in [`MismatchStats::rate_adequate`].
-pub const ADEQUATE_ALIASING: f32 = 2.0;
-
-/// Whether every visible pixel (inside a spot light's pyramid) got a shadow map.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
-pub struct CoverageStats {
-    pub required: u64,
-    pub covered: u64,
-    pub uncovered: u64,
-    pub complete: bool,
-}
-
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
-pub struct CasterStats {
-    /// Objects drawn into each map.
-    pub per_map: Vec<u32>,
-    /// Draw calls per map after merging adjacent index ranges.
-    pub draw_calls: Vec<u32>,
-    /// Objects drawn into at least one map.
-    pub drawn: u32,
-    /// Objects in the scene.
-    pub total: u32,
-}
-
-#[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct Timings {
-    pub shadow_ms: f64,
-    pub main_ms: f64,
-    pub shadow_gpu_ms: Option<f64>,
-    pub main_gpu_ms: Option<f64>,
-    pub readback_ms: f64,
-    pub ground_truth_ms: f64,
-}
-
-/// Everything `metrics.json` reports about one frame.
-#[derive(Clone, Debug, Default, Serialize)]
-pub struct RenderMetrics {
-    pub scene: String,
-    pub width: u32,
-    pub height: u32,
-    pub shadow_resolution: u32,
-    pub maps: usize,
-    pub adapter: AdapterSummary,
-    /// Whether casters in front of a map were clamped rather than clipped.
-    pub depth_clamp: bool,
-    /// Shadow + main passes, GPU work until idle (fastest of `timing_repeats`).
-    pub render_ms: f64,
-    pub shadow_pass_ms: f64,
-    pub main_pass_ms: f64,
-    /// The same phases timed by the GPU itself (timestamp queries, fastest
-    /// of `timing_repeats`), where the adapter has them: no submission or
-    /// fence wait in them.
-    pub shadow_gpu_ms: Option<f64>,
-    pub main_gpu_ms: Option<f64>,
-    pub readback_ms: f64,
-    pub ground_truth_ms: f64,
-    pub aliasing: AliasingStats,
-    pub mismatch: Option<MismatchStats>,
-    pub coverage: CoverageStats,
-    pub casters: CasterStats,
-    /// Visible pixels served by each map.
-    pub split_pixels: Vec<u64>,
-    /// Per map, the fraction of its area its focus body's projection covers, as given in the
-    /// request (empty when not given), and their least and mean values (null when not given).
-    pub map_utilisation: Vec<f64>,
-    pub utilisation_min: Option<f64>,
-    pub utilisation_mean: Option<f64>,
-    pub settings: RenderSettings,
-}
+use crate::stats::{AliasingStats, CasterStats, CoverageStats, MismatchStats, RenderMetrics, Timings, ADEQUATE_ALIASING};
 
 fn pixel_pos(w: &[f32; 4]) -> DVec3 {
     DVec3::new(w[0] as f64, w[1] as f64, w[2] as f64)

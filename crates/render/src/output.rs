@@ -5,7 +5,8 @@ use std::path::{Path, PathBuf};
 use crate::error::RenderError;
 use crate::frame::RenderOutput;
 use crate::image::{aliasing_heatmap, depth_image, mismatch_image, Image};
-use crate::metrics::{pixel_matches, RenderMetrics};
+use crate::metrics::pixel_matches;
+use crate::stats::RenderMetrics;
 
 /// The aliasing heatmap of a render, with its legend. Pixels outside a spot light's pyramid need
 /// no shadow map and are drawn as unlit.

@@ -14,6 +14,7 @@ use crate::passes::readback::read_frame;
 use crate::passes::shadow::ShadowPass;
 use crate::passes::{Geometry, ALBEDO_FMT, AUX_FMT, COLOR_FMT, DEPTH_FMT, NORMAL_FMT, VIS_FMT, VIZ_FMT, WORLD_FMT};
 use crate::scene::{Scene, Vertex};
+use crate::stats;
 use crate::timer::PhaseTimer;
 use crate::types::{DepthMode, LightSpec};
 use crate::uniforms;
@@ -461,7 +462,7 @@ impl Renderer {
         let ground_truth_ms = t3.elapsed().as_secs_f64() * 1e3;
 
         let draw_calls: Vec<u32> = shadow.ranges.iter().map(|r| r.len() as u32).collect();
-        let timings = metrics::Timings {
+        let timings = stats::Timings {
             shadow_ms: best_ms[0],
             main_ms: best_ms[1],
             shadow_gpu_ms: best_gpu[0],

@@ -154,9 +154,9 @@ pub fn body_points(b: &Body, extra: usize, seed: u64) -> Vec<DVec3> {
 /// Normalised map coordinates `(x/w, y/w, depth)` with depth taken in the
 /// "less" orientation (1 − z for a greater test).
 pub fn ndc(map: &ShadowMap, p: DVec3) -> DVec3 {
-    let q = map.matrix * p.extend(1.0);
+    let q = map.fit.clip_from_world * p.extend(1.0);
     let z = q.z / q.w;
-    DVec3::new(q.x / q.w, q.y / q.w, if map.depth_test == DepthTest::Greater { 1.0 - z } else { z })
+    DVec3::new(q.x / q.w, q.y / q.w, if map.fit.depth_test == DepthTest::Greater { 1.0 - z } else { z })
 }
 
 /// The r of split `i` of a point light's frame: every map of the split

@@ -3,10 +3,10 @@
 //! The frustum's side faces are four corners that are coplanar up to
 //! rounding, so the fold test `orient3d(a, b, c, d)` is near zero or zero
 //! every time, and an adaptive predicate ends in its slowest, fully exact
-//! stage (≈ 0.5–1 µs, for the four to six quads of every frustum). Here the
-//! same determinant is evaluated exactly in integers whenever each axis's
-//! four coordinates share a narrow exponent range, which is the usual case
-//! for frustum corners; otherwise the caller falls back.
+//! stage, for the four to six quads of every frustum. Here the same
+//! determinant is evaluated exactly in integers whenever each axis's four
+//! coordinates share a narrow exponent range, which is the usual case for
+//! frustum corners; otherwise the caller falls back.
 //!
 //! Scaling: the determinant of the differences is linear in each axis's
 //! column, so every axis is scaled by its own power of two (its smallest

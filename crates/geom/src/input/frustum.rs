@@ -121,7 +121,7 @@ impl PlaneSet {
 /// engine needs one.
 ///
 /// NOTE: most frames never need the `Plane` values (the float path answers),
-/// and writing them was ~3 % of a body.
+/// so they are not written until then.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct HullOutline {
     origin: [Origin; 2 * MAX_FRUSTUM_FACES],

@@ -7,7 +7,7 @@ use crate::error::RenderError;
 use crate::frame::{DepthMap, RenderOutput, RenderRequest};
 use crate::gpu::Gpu;
 use crate::image::Image;
-use crate::metrics::RenderMetrics;
+use crate::stats::RenderMetrics;
 use crate::types::DepthTest;
 
 /// Reads the frame back into a [`RenderOutput`] (no ground truth, default metrics: the

@@ -156,9 +156,9 @@ pub(super) fn line_proxy(p: &FloatPlane, a: DVec3, c: DVec3) -> FloatPlane {
 
 /// Coordinate `axis` (0, 1 or 2) of `p`, and its place.
 ///
-/// NOTE: glam's `p[axis]` is a three-way match on every access, and in the
-/// per-vertex loops that was ~2 % of a body; as an array index it is one
-/// load (the `min` lets the bounds check go).
+/// NOTE: glam's `p[axis]` is a three-way match on every access, in the
+/// per-vertex loops too; as an array index it is one load (the `min` lets
+/// the bounds check go).
 #[inline(always)]
 pub(super) fn coord(p: &DVec3, axis: usize) -> f64 {
     p.as_ref()[axis.min(2)]

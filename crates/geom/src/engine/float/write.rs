@@ -24,7 +24,7 @@ impl CertifiedClipper {
         // carry a face.
         // NOTE: the sizes are counted here rather than taken by `count_ones`
         // (no `popcnt` in the baseline instruction set: a dozen instructions
-        // per plane, ~1 % of a body).
+        // per plane; see BENCHMARKS.md for the per-body counts).
         let np = self.n_planes;
         let members = &mut self.plane_members[..np];
         members.fill(0);
