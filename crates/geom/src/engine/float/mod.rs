@@ -52,6 +52,9 @@ mod hull;
 mod planes;
 mod write;
 
+#[cfg(test)]
+mod tests;
+
 use crate::arith::plane::Plane;
 use crate::limits::MAX_VERTICES;
 use glam::DVec3;
