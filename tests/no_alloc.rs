@@ -15,32 +15,11 @@ use glam::DVec3;
 use shadowfocus::cli::case::parse_case;
 use shadowfocus::focus::*;
 use shadowfocus::geom::{Aabb, Body, Camera, Focuser, Frustum, Light};
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
 use std::path::Path;
 
-struct Counting;
-
-thread_local! {
-    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
-}
-
-/// Allocations made by this thread so far.
-fn allocations() -> usize {
-    ALLOCATIONS.with(|n| n.get())
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        // NOTE: `try_with`: a thread's last allocations may come after its
-        // thread-locals are gone.
-        let _ = ALLOCATIONS.try_with(|n| n.set(n.get() + 1));
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
+#[path = "support/counting_alloc.rs"]
+mod counting_alloc;
+use counting_alloc::{allocations, Counting};
 
 #[global_allocator]
 static GLOBAL: Counting = Counting;

@@ -1,0 +1,71 @@
+//! The C++ client's frames (examples/cpp/shadowfocus_client.cpp) fitted
+//! with the Rust API directly: the mean time per `fit`, to set beside the
+//! client's mean time per `sf_fit`.
+//!
+//! `cargo run --release -p shadowfocus-c --example rust_loop`
+
+use glam::DVec3;
+use shadowfocus_focus::{fit, FocusResult, FocusSettings, Method, SplitSettings};
+use shadowfocus_geom::{Aabb, Camera, Frustum, GeomError, Light};
+use std::f64::consts::PI;
+use std::time::Instant;
+
+const FRAMES: usize = 300;
+
+/// The client's walk, frame `k`.
+fn camera_at(k: usize) -> Camera {
+    let a = 2.0 * PI * k as f64 / FRAMES as f64;
+    let yaw = a + PI / 2.0 + 0.5 * (3.0 * a).sin();
+    Camera {
+        eye: DVec3::new(70.0 * a.cos(), 1.8 + 0.3 * (7.0 * a).sin(), 70.0 * a.sin()),
+        forward: DVec3::new(yaw.cos(), -0.1 + 0.05 * (2.0 * a).sin(), yaw.sin()),
+        up: DVec3::Y,
+        fovy: 60.0 * PI / 180.0,
+        aspect: 16.0 / 9.0,
+        near: 0.3,
+        far: 200.0,
+    }
+}
+
+/// The client's sun and spot light.
+fn lights() -> Result<[Light; 2], GeomError> {
+    let sun = Light::directional(DVec3::new(0.4, -1.0, 0.3))?;
+    let frame = Camera {
+        eye: DVec3::new(0.0, 35.0, 0.0),
+        forward: DVec3::new(0.3, -1.0, 0.2),
+        up: DVec3::Y,
+        fovy: PI / 2.0,
+        aspect: 1.0,
+        near: 0.5,
+        far: 120.0,
+    };
+    Ok([sun, Light::spot(frame.eye, Frustum::from_camera(&frame)?)?])
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let scene = Aabb::new(DVec3::new(-100.0, 0.0, -100.0), DVec3::new(100.0, 40.0, 100.0))?;
+    let settings = FocusSettings {
+        method: Method::Lispsm,
+        splits: SplitSettings { count: 4, ..SplitSettings::default() },
+        resolution: 2048,
+        ..FocusSettings::default()
+    };
+    let lights = lights()?;
+    let mut out = FocusResult::new();
+    let (mut total, mut per_light, mut active) = (0.0, [0.0; 2], 0);
+    for k in 0..FRAMES {
+        let camera = camera_at(k);
+        for (i, light) in lights.iter().enumerate() {
+            let start = Instant::now();
+            fit(&camera, light, &scene, &settings, &mut out)?;
+            let us = start.elapsed().as_secs_f64() * 1e6;
+            total += us;
+            per_light[i] += us;
+            active += out.maps().iter().filter(|m| m.is_active()).count();
+        }
+    }
+    let n = FRAMES as f64;
+    println!("frames {FRAMES}, fits {}, active maps {active}", 2 * FRAMES);
+    println!("mean fit: {:.2} us (sun {:.2} us, spot {:.2} us)", total / (2.0 * n), per_light[0] / n, per_light[1] / n);
+    Ok(())
+}

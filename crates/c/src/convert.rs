@@ -1,0 +1,198 @@
+//! From the C structs to the library's validated inputs, and from a fitted
+//! map back to `SfMap`.
+
+use crate::error::Failure;
+use crate::types::*;
+use glam::DVec3;
+use shadowfocus_focus::{
+    DepthTest, FocusSettings, LightNear, LispsmSettings, MapOrientation, Method, PointMode, PsmSettings, ShadowMap, SplitScheme,
+    SplitSettings, TsmSettings, WarpDirection,
+};
+use shadowfocus_geom::{Aabb, Camera, Frustum, Light};
+use std::ffi::c_int;
+
+fn v3(a: [f64; 3]) -> DVec3 {
+    DVec3::from_array(a)
+}
+
+/// The camera (validated later, by the fit).
+pub fn camera(c: &SfCamera) -> Camera {
+    Camera { eye: v3(c.eye), forward: v3(c.forward), up: v3(c.up), fovy: c.fovy_rad, aspect: c.aspect, near: c.near_dist, far: c.far_dist }
+}
+
+/// A checked box.
+pub fn aabb(b: &SfAabb) -> Result<Aabb, shadowfocus_geom::GeomError> {
+    Aabb::new(v3(b.min), v3(b.max))
+}
+
+/// A checked light.
+pub fn light(l: &SfLight) -> Result<Light, Failure> {
+    let checked = match l.kind {
+        k if k == SfLightKind::SF_LIGHT_DIRECTIONAL as c_int => Light::directional(v3(l.direction)),
+        k if k == SfLightKind::SF_LIGHT_POINT as c_int => Light::point(v3(l.position)),
+        k if k == SfLightKind::SF_LIGHT_SPOT as c_int => return spot(l),
+        k => return Err(bad_enum("light.kind", k, "SfLightKind")),
+    };
+    checked.map_err(|e| Failure::geom(&e, "light"))
+}
+
+fn spot(l: &SfLight) -> Result<Light, Failure> {
+    let frame = Camera {
+        eye: v3(l.position),
+        forward: v3(l.direction),
+        up: v3(l.up),
+        fovy: l.fovy_rad,
+        aspect: l.aspect,
+        near: l.near_dist,
+        far: l.far_dist,
+    };
+    let frustum = Frustum::from_camera(&frame).map_err(|e| Failure::geom(&e, "spot light frustum (a camera at the light)"))?;
+    Light::spot(frame.eye, frustum).map_err(|e| Failure::geom(&e, "light"))
+}
+
+fn bad_enum(field: &str, value: c_int, type_name: &str) -> Failure {
+    Failure::invalid(format!("{field}: {value} is not an {type_name} value"))
+}
+
+/// The enum value of `value`, one of `values` (C's integer is the index).
+fn pick<T: Copy>(value: c_int, values: &[T], field: &str, type_name: &str) -> Result<T, Failure> {
+    usize::try_from(value).ok().and_then(|i| values.get(i).copied()).ok_or_else(|| bad_enum(field, value, type_name))
+}
+
+/// `Some(v)` unless `v` is exactly 0 ("not set"); NaN and negatives are
+/// passed on for the settings check to reject.
+fn optional(v: f64) -> Option<f64> {
+    (v != 0.0).then_some(v)
+}
+
+/// The settings, with every enum value checked (the ranges are checked by the fit).
+pub fn settings(s: &SfSettings) -> Result<FocusSettings, Failure> {
+    check_clip(s)?;
+    Ok(FocusSettings {
+        method: method(s.method)?,
+        splits: SplitSettings { count: s.splits as usize, scheme: scheme(s)?, delta_bias: s.delta_bias },
+        resolution: s.resolution,
+        stable: s.stable != 0,
+        lispsm: LispsmSettings {
+            visible_far: optional(s.lispsm_visible_far),
+            warp: pick(
+                s.lispsm_warp,
+                &[WarpDirection::ViewProjected, WarpDirection::MiddleVector],
+                "settings.lispsm_warp",
+                "SfWarpDirection",
+            )?,
+        },
+        psm: PsmSettings { near: optional(s.psm_near), far: optional(s.psm_far) },
+        tsm: TsmSettings { focus: s.tsm_focus },
+        point: pick(s.point_mode, &[PointMode::Single, PointMode::Cube], "settings.point_mode", "SfPointMode")?,
+        light_near: match optional(s.light_near_fixed) {
+            Some(r) => LightNear::Fixed(r),
+            None => LightNear::Auto { fraction: s.light_near_fraction },
+        },
+        orientation: pick(
+            s.orientation,
+            &[MapOrientation::LeastArea, MapOrientation::ViewAligned],
+            "settings.orientation",
+            "SfOrientation",
+        )?,
+        warp_guard: s.warp_guard != 0,
+        f32_origin: v3(s.f32_origin),
+    })
+}
+
+const METHODS: [Method; 4] = [Method::Uniform, Method::Psm, Method::Lispsm, Method::Tsm];
+
+fn method(m: c_int) -> Result<Method, Failure> {
+    pick(m, &METHODS, "settings.method", "SfMethod")
+}
+
+fn scheme(s: &SfSettings) -> Result<SplitScheme, Failure> {
+    let schemes = [SplitScheme::Uniform, SplitScheme::Log, SplitScheme::Practical { lambda: s.lambda }];
+    pick(s.split_scheme, &schemes, "settings.split_scheme", "SfSplitScheme")
+}
+
+/// The clip conventions the library fits today: depth in [0, 1], not
+/// reversed, texture origin at the top left.
+fn check_clip(s: &SfSettings) -> Result<(), Failure> {
+    let unsupported = |what: &str| {
+        Failure::new(
+            SfStatus::SF_ERR_UNSUPPORTED,
+            format!("settings.{what}: only depth in [0, 1], no reversed Z and a top-left uv origin are supported so far"),
+        )
+    };
+    if s.depth_zero_to_one == 0 {
+        return Err(unsupported("depth_zero_to_one = 0"));
+    }
+    if s.reversed_z != 0 {
+        return Err(unsupported("reversed_z != 0"));
+    }
+    if s.uv_origin_top_left == 0 {
+        return Err(unsupported("uv_origin_top_left = 0"));
+    }
+    Ok(())
+}
+
+/// The C settings that give `FocusSettings::default()`.
+pub fn default_settings() -> SfSettings {
+    let d = FocusSettings::default();
+    let (lambda, split_scheme) = match d.splits.scheme {
+        SplitScheme::Uniform => (0.5, SfSplitScheme::SF_SPLIT_UNIFORM),
+        SplitScheme::Log => (0.5, SfSplitScheme::SF_SPLIT_LOG),
+        SplitScheme::Practical { lambda } => (lambda, SfSplitScheme::SF_SPLIT_PRACTICAL),
+    };
+    let (light_near_fraction, light_near_fixed) = match d.light_near {
+        LightNear::Auto { fraction } => (fraction, 0.0),
+        LightNear::Fixed(r) => (LightNear::DEFAULT_FRACTION, r),
+    };
+    SfSettings {
+        method: method_index(d.method),
+        splits: d.splits.count as u32,
+        split_scheme: split_scheme as c_int,
+        lambda,
+        delta_bias: d.splits.delta_bias,
+        resolution: d.resolution,
+        stable: d.stable.into(),
+        depth_zero_to_one: 1,
+        reversed_z: 0,
+        uv_origin_top_left: 1,
+        lispsm_visible_far: d.lispsm.visible_far.unwrap_or(0.0),
+        lispsm_warp: (d.lispsm.warp == WarpDirection::MiddleVector).into(),
+        psm_near: d.psm.near.unwrap_or(0.0),
+        psm_far: d.psm.far.unwrap_or(0.0),
+        tsm_focus: d.tsm.focus,
+        point_mode: (d.point == PointMode::Cube).into(),
+        light_near_fraction,
+        light_near_fixed,
+        orientation: (d.orientation == MapOrientation::ViewAligned).into(),
+        warp_guard: d.warp_guard.into(),
+        f32_origin: d.f32_origin.to_array(),
+    }
+}
+
+fn method_index(m: Method) -> c_int {
+    METHODS.iter().position(|x| *x == m).unwrap_or(0) as c_int
+}
+
+/// The C view of a fitted map.
+// NOTE: the only place that reads a map's fitted fields.
+pub fn map(m: &ShadowMap) -> SfMap {
+    let f = &m.fit;
+    SfMap {
+        active: m.is_active().into(),
+        depth_greater: (f.depth_test == DepthTest::Greater).into(),
+        split: m.split_range,
+        clip_from_world: f.clip_from_world.to_cols_array(),
+        clip_from_world_f32: f.clip_from_world_f32.to_cols_array(),
+        texel_size: f.texel_size,
+        method: method_index(f.method),
+        split_index: m.split as u32,
+        cube_face: m.face.map_or(-1, |f| f as c_int),
+        f32_exact: f.f32_exact.into(),
+        warp_near: f.warp_near,
+        psm_shift: f.psm_shift,
+        light_near: m.light_near,
+        notes: m.notes().0,
+        skipped: m.skipped().0,
+        body_vertex_count: m.body().vertices().len() as u32,
+    }
+}

@@ -1,0 +1,193 @@
+//! Through the C ABI, the library's results, bit for bit.
+
+use super::common::*;
+use crate::*;
+use shadowfocus_focus::{cull_casters, fit, CubeFace, DepthTest, FocusResult, Method, PointMode, ShadowMap};
+use shadowfocus_geom::{Aabb, Body, Focuser, Frustum};
+use std::ffi::c_int;
+
+const METHODS: [SfMethod; 4] = [SfMethod::SF_METHOD_UNIFORM, SfMethod::SF_METHOD_PSM, SfMethod::SF_METHOD_LISPSM, SfMethod::SF_METHOD_TSM];
+
+fn bits(a: &[f64]) -> Vec<u64> {
+    a.iter().map(|x| x.to_bits()).collect()
+}
+
+fn bits32(a: &[f32]) -> Vec<u32> {
+    a.iter().map(|x| x.to_bits()).collect()
+}
+
+/// Every field of `c` is the Rust map's, bit for bit.
+fn assert_same(c: &SfMap, r: &ShadowMap, what: &str) {
+    assert_eq!(c.active != 0, r.is_active(), "{what}: active");
+    assert_eq!(c.depth_greater != 0, r.fit.depth_test == DepthTest::Greater, "{what}: depth test");
+    assert_eq!(bits(&c.split), bits(&r.split_range), "{what}: split range");
+    assert_eq!(bits(&c.clip_from_world), bits(&r.fit.clip_from_world.to_cols_array()), "{what}: clip_from_world");
+    assert_eq!(bits32(&c.clip_from_world_f32), bits32(&r.fit.clip_from_world_f32.to_cols_array()), "{what}: clip_from_world_f32");
+    assert_eq!(bits(&c.texel_size), bits(&r.fit.texel_size), "{what}: texel size");
+    let method = [Method::Uniform, Method::Psm, Method::Lispsm, Method::Tsm][c.method as usize];
+    assert_eq!(method, r.fit.method, "{what}: method");
+    assert_eq!(c.split_index as usize, r.split, "{what}: split index");
+    let face = usize::try_from(c.cube_face).ok().map(|i| CubeFace::ALL[i]);
+    assert_eq!(face, r.face, "{what}: cube face");
+    assert_eq!(c.f32_exact != 0, r.fit.f32_exact, "{what}: f32_exact");
+    assert_eq!(bits(&[c.warp_near, c.psm_shift, c.light_near]), bits(&[r.fit.warp_near, r.fit.psm_shift, r.light_near]), "{what}: scalars");
+    assert_eq!((c.notes, c.skipped), (r.notes().0, r.skipped().0), "{what}: notes and skipped");
+    assert_eq!(c.body_vertex_count as usize, r.body().vertices().len(), "{what}: body size");
+}
+
+/// sf_fit against fit for every method, 1 and 4 splits, each light kind,
+/// point lights also as cubes, over a few camera poses.
+#[test]
+fn sf_fit_gives_the_maps_of_fit_bit_for_bit() {
+    let ctx = Ctx::new();
+    let mut out = FocusResult::new();
+    let mut maps = vec![canary_map(); SF_MAX_MAPS as usize];
+    let (mut compared, mut active, mut cube) = (0, 0, 0);
+    for k in [0, 37, 120, 299] {
+        let cam = camera(k);
+        for method in METHODS {
+            for splits in [1, 4] {
+                for light in lights() {
+                    for point_mode in [SfPointMode::SF_POINT_SINGLE, SfPointMode::SF_POINT_CUBE] {
+                        if point_mode == SfPointMode::SF_POINT_CUBE && light.kind != SfLightKind::SF_LIGHT_POINT as c_int {
+                            continue;
+                        }
+                        let mut s = settings(method, splits);
+                        s.point_mode = point_mode as c_int;
+                        let mut rs = rust_settings(method, splits);
+                        rs.point = [PointMode::Single, PointMode::Cube][point_mode as usize];
+                        let what = format!("frame {k}, {method:?}, {splits} splits, light kind {}, {point_mode:?}", light.kind);
+                        fit(&rust_camera(&cam), &rust_light(&light), &rust_scene(), &rs, &mut out).unwrap();
+                        let (rc, n) = ctx.fit(&cam, &light, &scene(), &s, &mut maps);
+                        assert_eq!(rc, 0, "{what}: {}", ctx.error());
+                        assert_eq!(ctx.error(), "");
+                        assert_eq!(n, out.maps().len(), "{what}");
+                        for (i, (c, r)) in maps.iter().zip(out.maps()).enumerate() {
+                            assert_same(c, r, &format!("{what}, map {i}"));
+                            let want: Vec<[f64; 3]> = r.body().vertices().iter().map(|v| v.to_array()).collect();
+                            assert_eq!(ctx.body(i), want, "{what}, map {i}: body");
+                            compared += 1;
+                            active += usize::from(r.is_active());
+                            cube += usize::from(r.face.is_some());
+                        }
+                    }
+                }
+            }
+        }
+    }
+    // The comparison saw active maps, cube faces and several splits.
+    assert!(compared > 400 && active > 300 && cube >= 6 * 8, "{compared} maps, {active} active, {cube} cube faces");
+}
+
+/// One prepared view, two lights: the maps of sf_fit for each.
+#[test]
+fn sf_fit_light_from_a_prepared_view_gives_the_maps_of_sf_fit() {
+    let (a, b) = (Ctx::new(), Ctx::new());
+    let s = settings(SfMethod::SF_METHOD_LISPSM, 4);
+    let mut want = vec![canary_map(); SF_MAX_MAPS as usize];
+    let mut got = want.clone();
+    for k in [3, 150] {
+        let cam = camera(k);
+        // SAFETY: valid pointers.
+        assert_eq!(unsafe { sf_prepare_view(a.0, &cam, &s) }, 0, "{}", a.error());
+        for light in lights() {
+            let (rc, n) = b.fit(&cam, &light, &scene(), &s, &mut want);
+            assert_eq!(rc, 0, "{}", b.error());
+            let mut m = 0;
+            // SAFETY: `got` holds SF_MAX_MAPS maps.
+            let rc = unsafe { sf_fit_light(a.0, &light, &scene(), got.as_mut_ptr(), got.len(), &mut m) };
+            assert_eq!((rc, m), (0, n), "{}", a.error());
+            for i in 0..n {
+                assert_eq!(bits(&got[i].clip_from_world), bits(&want[i].clip_from_world));
+                assert_eq!(bits32(&got[i].clip_from_world_f32), bits32(&want[i].clip_from_world_f32));
+            }
+        }
+    }
+}
+
+/// sf_view_body is the body of the whole fitted view; sf_cull_casters is
+/// cull_casters on the same map and boxes.
+#[test]
+fn view_body_and_culling_match_the_library() {
+    let ctx = Ctx::new();
+    let mut maps = vec![canary_map(); SF_MAX_MAPS as usize];
+    let mut boxes = Vec::new();
+    for i in 0..20 {
+        for j in 0..20 {
+            let (x, z) = (-95.0 + 10.0 * i as f64, -95.0 + 10.0 * j as f64);
+            boxes.push(SfAabb { min: [x, 0.0, z], max: [x + 3.0, 4.0 + (i + j) as f64 % 7.0, z + 3.0] });
+        }
+    }
+    let rust_boxes: Vec<Aabb> = boxes.iter().map(|b| Aabb::new(b.min.into(), b.max.into()).unwrap()).collect();
+    let mut out = FocusResult::new();
+    let (mut kept_total, mut culled_total) = (0, 0);
+    for light in lights() {
+        let cam = camera(40);
+        let s = settings(SfMethod::SF_METHOD_LISPSM, 4);
+        let (rc, n) = ctx.fit(&cam, &light, &scene(), &s, &mut maps);
+        assert_eq!(rc, 0, "{}", ctx.error());
+        fit(&rust_camera(&cam), &rust_light(&light), &rust_scene(), &rust_settings(SfMethod::SF_METHOD_LISPSM, 4), &mut out).unwrap();
+
+        let (mut want, mut focuser) = (Body::new(), Focuser::new());
+        focuser.focus_into(&mut want, &Frustum::from_camera(&rust_camera(&cam)).unwrap(), &rust_light(&light), &rust_scene()).unwrap();
+        let mut v = vec![[0.0; 3]; SF_MAX_BODY_VERTICES as usize];
+        let mut nv = 0;
+        // SAFETY: `v` holds SF_MAX_BODY_VERTICES vertices.
+        assert_eq!(unsafe { sf_view_body(ctx.0, v.as_mut_ptr().cast(), v.len(), &mut nv) }, 0, "{}", ctx.error());
+        assert!(nv > 0);
+        assert_eq!(&v[..nv], &want.vertices().iter().map(|p| p.to_array()).collect::<Vec<_>>()[..]);
+
+        for i in 0..n {
+            let mut got = vec![u32::MAX; boxes.len()];
+            let mut count = 0;
+            // SAFETY: `boxes` and `got` hold boxes.len() entries.
+            let rc = unsafe { sf_cull_casters(ctx.0, i, boxes.as_ptr(), boxes.len(), got.as_mut_ptr(), got.len(), &mut count) };
+            assert_eq!(rc, 0, "{}", ctx.error());
+            let mut want = vec![0u32; boxes.len()];
+            let kept = cull_casters(&out.maps()[i], &rust_boxes, &mut want).unwrap();
+            assert_eq!(&got[..count], &want[..kept]);
+            kept_total += kept;
+            culled_total += boxes.len() - kept;
+        }
+    }
+    assert!(kept_total > 0 && culled_total > 0, "kept {kept_total}, culled {culled_total}");
+}
+
+/// The header's constants are the library's.
+#[test]
+fn constants_match_the_library() {
+    use shadowfocus_focus::{Notes, Skipped, MAX_MAPS, MAX_SPLITS};
+    assert_eq!(SF_MAX_SPLITS as usize, MAX_SPLITS);
+    assert_eq!(SF_MAX_MAPS as usize, MAX_MAPS);
+    assert_eq!(SF_MAX_BODY_VERTICES as usize, shadowfocus_geom::MAX_VERTICES);
+    let notes = [
+        (SF_NOTE_PSM_FELL_BACK, Notes::PSM_FELL_BACK),
+        (SF_NOTE_POINT_AS_CUBE, Notes::POINT_AS_CUBE),
+        (SF_NOTE_LIGHT_NEAR, Notes::LIGHT_NEAR),
+        (SF_NOTE_INVERTED, Notes::INVERTED),
+        (SF_NOTE_STABLE_IGNORED, Notes::STABLE_IGNORED),
+        (SF_NOTE_F32_IMPRECISE, Notes::F32_IMPRECISE),
+        (SF_NOTE_WARP_LIMITED, Notes::WARP_LIMITED),
+    ];
+    for (c, r) in notes {
+        assert_eq!(c, r.0);
+    }
+    let skipped = [
+        (SF_SKIPPED_LIGHT_CLIP, Skipped::LIGHT_CLIP),
+        (SF_SKIPPED_SCENE_CLIP, Skipped::SCENE_CLIP),
+        (SF_SKIPPED_PSM_SHIFT, Skipped::PSM_SHIFT),
+        (SF_SKIPPED_EMPTY_MAPS, Skipped::EMPTY_MAPS),
+        (SF_SKIPPED_WARP, Skipped::WARP),
+    ];
+    for (c, r) in skipped {
+        assert_eq!(c, r.0);
+    }
+}
+
+/// sf_settings_default stands for FocusSettings::default().
+#[test]
+fn default_settings_are_the_library_defaults() {
+    let s = settings(SfMethod::SF_METHOD_UNIFORM, 1);
+    assert_eq!(crate::convert::settings(&s).unwrap(), shadowfocus_focus::FocusSettings::default());
+    assert_eq!((s.depth_zero_to_one, s.reversed_z, s.uv_origin_top_left), (1, 0, 1));
+}
