@@ -7,7 +7,7 @@
 use shadowfocus::cli::fit::FitOptions;
 use shadowfocus::cli::render::{demo_configs, fit_scene};
 use shadowfocus::cli::sweep::{ADEQUATE_LIMIT, MIN_ADEQUATE_PIXELS};
-use shadowfocus::focus::{FocusSettings, Method};
+use shadowfocus::focus::{ClipConvention, FocusSettings, Method};
 use shadowfocus::render::{builtin_scene, RenderMetrics, RenderRequest, Renderer, Scene};
 use std::sync::Mutex;
 
@@ -109,4 +109,37 @@ fn inverted_scene_really_inverts_the_psm_light() {
         maps.iter().any(|m| m.depth_test == shadowfocus::render::DepthTest::Greater),
         "no reversed depth test in the inverted scene; fit {summary}"
     );
+}
+
+#[test]
+fn reversed_z_maps_render_the_same_shadows() {
+    // The same maps with their depth rows reversed (depth 1 at the light,
+    // the greater test; PSM's inverted light then takes the less one) over
+    // every built-in scene and method: the renderer follows each map's
+    // depth test, and the shadows agree with the default convention's
+    // pixel for pixel up to the rounding of the reversed depths.
+    let mut compared = 0;
+    for name in shadowfocus::render::BUILTIN_SCENES {
+        let s = scene(name);
+        for (label, opts) in demo_configs(RES) {
+            let settings = opts.settings().unwrap();
+            let reversed = FocusSettings { clip: ClipConvention::WGPU.reversed(), ..settings };
+            let (maps, _, _) = fit_scene(&s, SIZE.0 as f64 / SIZE.1 as f64, &reversed).unwrap();
+            let (plain, _, _) = fit_scene(&s, SIZE.0 as f64 / SIZE.1 as f64, &settings).unwrap();
+            assert_eq!(maps.len(), plain.len());
+            for (r, p) in maps.iter().zip(&plain) {
+                assert_ne!(r.depth_test, p.depth_test, "{name}/{label}: reversed-Z kept the depth test");
+            }
+            let (a, b) = (render_with(&s, &opts, &settings).mismatch.unwrap(), render_with(&s, &opts, &reversed).mismatch.unwrap());
+            eprintln!(
+                "{name}/{label}: mismatched {} vs {} reversed, off edges {} vs {}",
+                a.mismatched, b.mismatched, a.off_edge_mismatched, b.off_edge_mismatched
+            );
+            assert_eq!(a.pixels, b.pixels);
+            let differ = a.mismatched.abs_diff(b.mismatched) + a.off_edge_mismatched.abs_diff(b.off_edge_mismatched);
+            assert!(differ * 2000 <= a.pixels, "{name}/{label}: mismatch {a:?} with the default, {b:?} reversed");
+            compared += 1;
+        }
+    }
+    assert_eq!(compared, shadowfocus::render::BUILTIN_SCENES.len() * 5);
 }

@@ -1,7 +1,9 @@
 // A C++17 client of the shadowfocus C ABI: cascaded LiSPSM maps for a sun and
 // a spot light along a 300-frame walk through a 200 m scene. Every map is
 // checked against its focus body (each vertex inside the clip volume, in
-// double and, where f32_exact, with the float matrix in float), a grid of
+// double and, where f32_exact, with the float matrix in float; and inside
+// the lookup's [0, 1] range), every fourth frame also in OpenGL's clip
+// convention with reversed-Z, a grid of
 // caster boxes is culled, one error path is exercised, and a summary is
 // printed. Exits non-zero on any violation or unexpected error.
 //
@@ -90,10 +92,23 @@ T row(const T* m, int r, T x, T y, T z) {
     return m[r] * x + m[4 + r] * y + m[8 + r] * z + m[12 + r];
 }
 
+// The clip volume with depth in [z_lo, 1]: z_lo is 0, or -1 for OpenGL's range.
 template <typename T>
-bool inside(const T* m, T x, T y, T z) {
+bool inside(const T* m, T x, T y, T z, T z_lo) {
     const T cx = row(m, 0, x, y, z), cy = row(m, 1, x, y, z), cz = row(m, 2, x, y, z), cw = row(m, 3, x, y, z);
-    return cw > T(0) && -cw <= cx && cx <= cw && -cw <= cy && cy <= cw && T(0) <= cz && cz <= cw;
+    return cw > T(0) && -cw <= cx && cx <= cw && -cw <= cy && cy <= cw && z_lo * cw <= cz && cz <= cw;
+}
+
+// The lookup matrix puts the point at u, v, depth in [0, 1] (to a few ulps).
+bool in_lookup(const double* m, double x, double y, double z) {
+    const double w = row(m, 3, x, y, z), tol = 1e-9;
+    for (int r = 0; r < 3; ++r) {
+        const double c = row(m, r, x, y, z) / w;
+        if (!(c >= -tol && c <= 1.0 + tol)) {
+            return false;
+        }
+    }
+    return w > 0.0;
 }
 
 struct Tally {
@@ -116,7 +131,7 @@ void report(SfContext* ctx, const char* what, int rc, Tally& t) {
 }
 
 // Checks every vertex of map i's body against its matrices.
-void check_body(SfContext* ctx, size_t i, const SfMap& map, std::vector<double>& verts, Tally& t) {
+void check_body(SfContext* ctx, size_t i, const SfMap& map, double z_lo, std::vector<double>& verts, Tally& t) {
     size_t n = 0;
     const int rc = sf_body(ctx, i, verts.data(), verts.size() / 3, &n);
     if (rc != SF_OK) {
@@ -130,14 +145,14 @@ void check_body(SfContext* ctx, size_t i, const SfMap& map, std::vector<double>&
     for (size_t v = 0; v < n; ++v) {
         const double* p = &verts[3 * v];
         ++t.vertices;
-        if (!inside(map.clip_from_world, p[0], p[1], p[2])) {
-            std::fprintf(stderr, "map %zu: vertex (%g, %g, %g) outside the f64 clip volume\n", i, p[0], p[1], p[2]);
+        if (!inside(map.clip_from_world, p[0], p[1], p[2], z_lo) || !in_lookup(map.uv_from_world, p[0], p[1], p[2])) {
+            std::fprintf(stderr, "map %zu: vertex (%g, %g, %g) outside the f64 clip volume or lookup\n", i, p[0], p[1], p[2]);
             ++t.violations;
         }
         if (map.f32_exact) {
             ++t.vertices_f32;
             const float x = static_cast<float>(p[0]), y = static_cast<float>(p[1]), z = static_cast<float>(p[2]);
-            if (!inside(map.clip_from_world_f32, x, y, z)) {
+            if (!inside(map.clip_from_world_f32, x, y, z, static_cast<float>(z_lo))) {
                 std::fprintf(stderr, "map %zu: vertex (%g, %g, %g) outside the f32 clip volume\n", i, p[0], p[1], p[2]);
                 ++t.violations;
             }
@@ -188,7 +203,12 @@ void fit_light(SfContext* ctx, int which, const SfCamera& cam, const SfLight& li
             continue;
         }
         ++t.active;
-        check_body(ctx, i, maps[i], verts, t);
+        // Sun and spot are never inverted: reversed-Z alone decides the test.
+        if ((maps[i].depth_greater != 0) != (settings.reversed_z != 0) || maps[i].inverted) {
+            std::fprintf(stderr, "map %zu: depth_greater %d with reversed_z %d\n", i, maps[i].depth_greater, settings.reversed_z);
+            ++t.violations;
+        }
+        check_body(ctx, i, maps[i], settings.depth_zero_to_one ? 0.0 : -1.0, verts, t);
         cull(ctx, i, boxes, kept, t);
     }
 }
@@ -232,6 +252,11 @@ int main() {
     settings.method = SF_METHOD_LISPSM;
     settings.splits = 4;
     settings.resolution = 2048;
+    // Every fourth frame also as an OpenGL engine with reversed-Z would fit it.
+    SfSettings gl_reversed = settings;
+    gl_reversed.depth_zero_to_one = 0;
+    gl_reversed.reversed_z = 1;
+    gl_reversed.uv_origin_top_left = 0;
 
     std::vector<SfMap> maps(SF_MAX_MAPS);
     std::vector<double> verts(3 * SF_MAX_BODY_VERTICES);
@@ -244,6 +269,11 @@ int main() {
         const SfCamera cam = camera_at(k);
         for (int which = 0; which < 2; ++which) {
             fit_light(ctx, which, cam, lights[which], settings, maps, verts, boxes, kept, t);
+        }
+        if (k % 4 == 0) {
+            for (int which = 0; which < 2; ++which) {
+                fit_light(ctx, which, cam, lights[which], gl_reversed, maps, verts, boxes, kept, t);
+            }
         }
     }
     const bool errors_ok = error_paths_behave(ctx, settings);

@@ -110,13 +110,9 @@ typedef enum SfStatus {
    */
   SF_ERR_NO_SINGLE_PROJECTION = -4,
   /*
-   A valid request the library does not support (yet).
-   */
-  SF_ERR_UNSUPPORTED = -5,
-  /*
    A bug: an internal limit or a caught panic. The context stays usable.
    */
-  SF_ERR_INTERNAL = -6,
+  SF_ERR_INTERNAL = -5,
 } SfStatus;
 
 /*
@@ -261,18 +257,26 @@ typedef struct SfSettings {
    */
   int stable;
   /*
-   Nonzero: clip depth in [0, 1] (the only depth range supported so far; default 1).
+   Nonzero: clip depth in [0, 1] (wgpu, Vulkan, Direct3D, Metal); 0: in
+   [-1, 1] (OpenGL). Default 1.
    */
   int depth_zero_to_one;
   /*
-   Nonzero: depth 1 at the light, 0 at the far end (not supported so far; default 0).
+   Nonzero: reversed-Z, depth 1 nearest the light (the maps then use
+   the greater test, inverted PSM lights the less one). Default 0.
    */
   int reversed_z;
   /*
-   Nonzero: texture coordinates start at the map's top-left corner,
-   `v = 0.5 - 0.5 y` (the only origin supported so far; default 1).
+   Nonzero: the first texel row is the image's top (wgpu, Vulkan,
+   Direct3D, Metal); 0: its bottom (OpenGL). Default 1.
    */
   int uv_origin_top_left;
+  /*
+   Nonzero: clip +y points down the rendered image (Vulkan). Default 0.
+   With the three fields above: OpenGL is (0, 0, 0, 0), Vulkan
+   (1, 0, 1, 1), wgpu, Direct3D and Metal (1, 0, 1, 0).
+   */
+  int clip_y_down;
   /*
    LiSPSM: a visible far distance that tightens the warp (0: none).
    */
@@ -412,11 +416,13 @@ typedef struct SfAabb {
 /*
  One fitted shadow map.
 
- `clip_from_world` maps world points to clip space (column-major): after
- the divide by `w`, `x, y` in [-1, 1] and depth `z` in [0, 1]. Every vertex
- of the map's body satisfies `w > 0, -w <= x, y <= w, 0 <= z <= w`, and so
- does `clip_from_world_f32` applied in float to the vertex minus
- `f32_origin` when `f32_exact` is nonzero. Inactive maps have zero matrices.
+ `clip_from_world` maps world points to clip space (column-major) in the
+ settings' convention: after the divide by `w`, `x, y` in [-1, 1] and
+ depth `z` in [0, 1] (or [-1, 1] when `depth_zero_to_one` is 0). Every
+ vertex of the map's body satisfies `w > 0, -w <= x, y <= w` and `0 <= z
+ <= w` (resp. `-w <= z <= w`), and so does `clip_from_world_f32` applied
+ in float to the vertex minus `f32_origin` when `f32_exact` is nonzero.
+ Inactive maps have zero matrices.
  */
 typedef struct SfMap {
   /*
@@ -424,7 +430,8 @@ typedef struct SfMap {
    */
   int active;
   /*
-   Nonzero: render and sample with the greater depth test (PSM's inverted lights); 0: less.
+   Nonzero: render and sample with the greater depth test (reversed-Z,
+   or PSM's inverted lights without it); 0: less.
    */
   int depth_greater;
   /*
@@ -439,6 +446,30 @@ typedef struct SfMap {
    `clip_from_world` times translate(`f32_origin`), rounded to float, column-major.
    */
   float clip_from_world_f32[16];
+  /*
+   The lookup matrix: world point to (u, v, depth, 1) times w, with u, v
+   the texture coordinates in the convention's layout and depth as the
+   depth buffer stores it, in [0, 1]; compare with `depth_greater`.
+   */
+  double uv_from_world[16];
+  /*
+   `uv_from_world` for positions relative to `f32_origin`, in float.
+   */
+  float uv_from_world_f32[16];
+  /*
+   The light's rigid right-handed view (looking down -z along the map's
+   axis; eye at a point or spot light, behind the body for the sun).
+   */
+  double light_view[16];
+  /*
+   `clip_from_world` times the inverse of `light_view`.
+   */
+  double light_projection[16];
+  /*
+   Nonzero: PSM's light is inverted for this map (its depth test is the
+   convention's other one).
+   */
+  int inverted;
   /*
    World size of a texel at the split's near and far depth on the camera axis (infinite where unseen).
    */
@@ -538,8 +569,7 @@ void sf_settings_default(struct SfSettings *settings);
  *count` (nothing written; the fit is kept for `sf_body` and
  `sf_cull_casters`), `SF_ERR_INVALID_INPUT` for NaN, infinity, near >=
  far, a zero direction, an inverted box, a bad enum value or a setting
- out of range, `SF_ERR_UNSUPPORTED` for a clip convention other than the
- default. Any other failure forgets the context's last fit. No
+ out of range. Any other failure forgets the context's last fit. No
  allocation after the first call with the context.
 
  # Safety

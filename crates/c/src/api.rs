@@ -179,8 +179,7 @@ pub unsafe extern "C" fn sf_settings_default(settings: *mut SfSettings) {
 /// *count` (nothing written; the fit is kept for `sf_body` and
 /// `sf_cull_casters`), `SF_ERR_INVALID_INPUT` for NaN, infinity, near >=
 /// far, a zero direction, an inverted box, a bad enum value or a setting
-/// out of range, `SF_ERR_UNSUPPORTED` for a clip convention other than the
-/// default. Any other failure forgets the context's last fit. No
+/// out of range. Any other failure forgets the context's last fit. No
 /// allocation after the first call with the context.
 ///
 /// # Safety

@@ -5,8 +5,8 @@ use crate::error::Failure;
 use crate::types::*;
 use glam::DVec3;
 use shadowfocus_focus::{
-    DepthTest, FocusSettings, LightNear, LispsmSettings, MapOrientation, Method, PointMode, PsmSettings, ShadowMap, SplitScheme,
-    SplitSettings, TsmSettings, WarpDirection,
+    ClipConvention, DepthRange, DepthTest, FocusSettings, LightNear, LispsmSettings, MapOrientation, Method, PointMode, PsmSettings,
+    ShadowMap, SplitScheme, SplitSettings, TsmSettings, UvOrigin, WarpDirection,
 };
 use shadowfocus_geom::{Aabb, Camera, Frustum, Light};
 use std::ffi::c_int;
@@ -67,7 +67,6 @@ fn optional(v: f64) -> Option<f64> {
 
 /// The settings, with every enum value checked (the ranges are checked by the fit).
 pub fn settings(s: &SfSettings) -> Result<FocusSettings, Failure> {
-    check_clip(s)?;
     Ok(FocusSettings {
         method: method(s.method)?,
         splits: SplitSettings { count: s.splits as usize, scheme: scheme(s)?, delta_bias: s.delta_bias },
@@ -97,6 +96,7 @@ pub fn settings(s: &SfSettings) -> Result<FocusSettings, Failure> {
         )?,
         warp_guard: s.warp_guard != 0,
         f32_origin: v3(s.f32_origin),
+        clip: clip(s),
     })
 }
 
@@ -111,25 +111,14 @@ fn scheme(s: &SfSettings) -> Result<SplitScheme, Failure> {
     pick(s.split_scheme, &schemes, "settings.split_scheme", "SfSplitScheme")
 }
 
-/// The clip conventions the library fits today: depth in [0, 1], not
-/// reversed, texture origin at the top left.
-fn check_clip(s: &SfSettings) -> Result<(), Failure> {
-    let unsupported = |what: &str| {
-        Failure::new(
-            SfStatus::SF_ERR_UNSUPPORTED,
-            format!("settings.{what}: only depth in [0, 1], no reversed Z and a top-left uv origin are supported so far"),
-        )
-    };
-    if s.depth_zero_to_one == 0 {
-        return Err(unsupported("depth_zero_to_one = 0"));
+/// The clip convention of the settings (every combination is valid).
+fn clip(s: &SfSettings) -> ClipConvention {
+    ClipConvention {
+        depth: if s.depth_zero_to_one != 0 { DepthRange::ZeroToOne } else { DepthRange::MinusOneToOne },
+        reversed_z: s.reversed_z != 0,
+        uv_origin: if s.uv_origin_top_left != 0 { UvOrigin::TopLeft } else { UvOrigin::BottomLeft },
+        y_down: s.clip_y_down != 0,
     }
-    if s.reversed_z != 0 {
-        return Err(unsupported("reversed_z != 0"));
-    }
-    if s.uv_origin_top_left == 0 {
-        return Err(unsupported("uv_origin_top_left = 0"));
-    }
-    Ok(())
 }
 
 /// The C settings that give `FocusSettings::default()`.
@@ -152,9 +141,10 @@ pub fn default_settings() -> SfSettings {
         delta_bias: d.splits.delta_bias,
         resolution: d.resolution,
         stable: d.stable.into(),
-        depth_zero_to_one: 1,
-        reversed_z: 0,
-        uv_origin_top_left: 1,
+        depth_zero_to_one: (d.clip.depth == DepthRange::ZeroToOne).into(),
+        reversed_z: d.clip.reversed_z.into(),
+        uv_origin_top_left: (d.clip.uv_origin == UvOrigin::TopLeft).into(),
+        clip_y_down: d.clip.y_down.into(),
         lispsm_visible_far: d.lispsm.visible_far.unwrap_or(0.0),
         lispsm_warp: (d.lispsm.warp == WarpDirection::MiddleVector).into(),
         psm_near: d.psm.near.unwrap_or(0.0),
@@ -183,6 +173,11 @@ pub fn map(m: &ShadowMap) -> SfMap {
         split: m.split_range,
         clip_from_world: f.clip_from_world.to_cols_array(),
         clip_from_world_f32: f.clip_from_world_f32.to_cols_array(),
+        uv_from_world: f.uv_from_world().to_cols_array(),
+        uv_from_world_f32: f.uv_from_world_f32().to_cols_array(),
+        light_view: m.light_view().to_cols_array(),
+        light_projection: m.light_projection().to_cols_array(),
+        inverted: f.inverted().into(),
         texel_size: f.texel_size,
         method: method_index(f.method),
         split_index: m.split as u32,

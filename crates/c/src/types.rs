@@ -29,10 +29,8 @@ pub enum SfStatus {
     SF_ERR_BUFFER_TOO_SMALL = -3,
     /// No single projection from the light can see the focus body.
     SF_ERR_NO_SINGLE_PROJECTION = -4,
-    /// A valid request the library does not support (yet).
-    SF_ERR_UNSUPPORTED = -5,
     /// A bug: an internal limit or a caught panic. The context stays usable.
-    SF_ERR_INTERNAL = -6,
+    SF_ERR_INTERNAL = -5,
 }
 
 /// The kind of light.
@@ -225,13 +223,19 @@ pub struct SfSettings {
     /// Nonzero: texel-snapped, camera-rotation invariant maps (directional
     /// lights with the uniform method; ignored otherwise, with a note).
     pub stable: c_int,
-    /// Nonzero: clip depth in [0, 1] (the only depth range supported so far; default 1).
+    /// Nonzero: clip depth in [0, 1] (wgpu, Vulkan, Direct3D, Metal); 0: in
+    /// [-1, 1] (OpenGL). Default 1.
     pub depth_zero_to_one: c_int,
-    /// Nonzero: depth 1 at the light, 0 at the far end (not supported so far; default 0).
+    /// Nonzero: reversed-Z, depth 1 nearest the light (the maps then use
+    /// the greater test, inverted PSM lights the less one). Default 0.
     pub reversed_z: c_int,
-    /// Nonzero: texture coordinates start at the map's top-left corner,
-    /// `v = 0.5 - 0.5 y` (the only origin supported so far; default 1).
+    /// Nonzero: the first texel row is the image's top (wgpu, Vulkan,
+    /// Direct3D, Metal); 0: its bottom (OpenGL). Default 1.
     pub uv_origin_top_left: c_int,
+    /// Nonzero: clip +y points down the rendered image (Vulkan). Default 0.
+    /// With the three fields above: OpenGL is (0, 0, 0, 0), Vulkan
+    /// (1, 0, 1, 1), wgpu, Direct3D and Metal (1, 0, 1, 0).
+    pub clip_y_down: c_int,
     /// LiSPSM: a visible far distance that tightens the warp (0: none).
     pub lispsm_visible_far: f64,
     /// LiSPSM: an `SfWarpDirection` value (default view projected).
@@ -259,17 +263,20 @@ pub struct SfSettings {
 
 /// One fitted shadow map.
 ///
-/// `clip_from_world` maps world points to clip space (column-major): after
-/// the divide by `w`, `x, y` in [-1, 1] and depth `z` in [0, 1]. Every vertex
-/// of the map's body satisfies `w > 0, -w <= x, y <= w, 0 <= z <= w`, and so
-/// does `clip_from_world_f32` applied in float to the vertex minus
-/// `f32_origin` when `f32_exact` is nonzero. Inactive maps have zero matrices.
+/// `clip_from_world` maps world points to clip space (column-major) in the
+/// settings' convention: after the divide by `w`, `x, y` in [-1, 1] and
+/// depth `z` in [0, 1] (or [-1, 1] when `depth_zero_to_one` is 0). Every
+/// vertex of the map's body satisfies `w > 0, -w <= x, y <= w` and `0 <= z
+/// <= w` (resp. `-w <= z <= w`), and so does `clip_from_world_f32` applied
+/// in float to the vertex minus `f32_origin` when `f32_exact` is nonzero.
+/// Inactive maps have zero matrices.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SfMap {
     /// Nonzero when the map has a body to render; 0: render nothing.
     pub active: c_int,
-    /// Nonzero: render and sample with the greater depth test (PSM's inverted lights); 0: less.
+    /// Nonzero: render and sample with the greater depth test (reversed-Z,
+    /// or PSM's inverted lights without it); 0: less.
     pub depth_greater: c_int,
     /// The split's view-depth range along the camera's forward axis.
     pub split: [f64; 2],
@@ -277,6 +284,20 @@ pub struct SfMap {
     pub clip_from_world: [f64; 16],
     /// `clip_from_world` times translate(`f32_origin`), rounded to float, column-major.
     pub clip_from_world_f32: [f32; 16],
+    /// The lookup matrix: world point to (u, v, depth, 1) times w, with u, v
+    /// the texture coordinates in the convention's layout and depth as the
+    /// depth buffer stores it, in [0, 1]; compare with `depth_greater`.
+    pub uv_from_world: [f64; 16],
+    /// `uv_from_world` for positions relative to `f32_origin`, in float.
+    pub uv_from_world_f32: [f32; 16],
+    /// The light's rigid right-handed view (looking down -z along the map's
+    /// axis; eye at a point or spot light, behind the body for the sun).
+    pub light_view: [f64; 16],
+    /// `clip_from_world` times the inverse of `light_view`.
+    pub light_projection: [f64; 16],
+    /// Nonzero: PSM's light is inverted for this map (its depth test is the
+    /// convention's other one).
+    pub inverted: c_int,
     /// World size of a texel at the split's near and far depth on the camera axis (infinite where unseen).
     pub texel_size: [f64; 2],
     /// The `SfMethod` that produced the matrix (PSM may fall back to uniform).

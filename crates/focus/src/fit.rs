@@ -1,5 +1,6 @@
 //! One frame: splits, bodies, maps, plan.
 
+use crate::clip::ClipConvention;
 use crate::cone::turn_into_cone;
 use crate::error::FocusError;
 use crate::frame::{perpendicular_hint, tangent_frame};
@@ -185,11 +186,11 @@ pub fn fit_prepared(view: &PreparedView, light: &Light, scene: &Aabb, out: &mut 
     }
     let scene = Aabb::new(scene.min, scene.max)?;
     light.validate()?;
-    out.set_splits(&view.depths, view.splits);
+    out.set_splits(&view.depths, view.splits, view.settings.clip);
     for i in 0..view.splits {
         let range = [view.depths[i], view.depths[i + 1]];
         let Some(frustum) = &view.frusta[i] else {
-            empty_split(out, light, i, range)?;
+            empty_split(out, &view.settings, light, i, range)?;
             continue;
         };
         let sub = Camera { near: range[0], far: range[1], ..view.camera };
@@ -282,13 +283,13 @@ fn visible_range(camera: &Camera, settings: &FocusSettings) -> Result<Camera, Fo
 }
 
 /// A split emptied by δ_bias: no depth, hence no body and no map.
-fn empty_split(out: &mut FocusResult, light: &Light, split: usize, range: [f64; 2]) -> Result<(), FocusError> {
+fn empty_split(out: &mut FocusResult, settings: &FocusSettings, light: &Light, split: usize, range: [f64; 2]) -> Result<(), FocusError> {
     let (map, _) = push(out)?;
     map.split = split;
     map.face = None;
     map.split_range = range;
     set_light(&mut map.light, light);
-    map.set_empty();
+    map.fit = MapFit::empty(settings.method, settings.clip);
     map.body_valid = false;
     Ok(())
 }
@@ -321,7 +322,7 @@ fn begin(map: &mut ShadowMap, sv: &SplitView, split: usize, face: Option<CubeFac
     map.face = face;
     map.split_range = [sv.camera.near, sv.camera.far];
     set_light(&mut map.light, light);
-    map.fit = MapFit::empty(sv.settings.method);
+    map.fit = MapFit::empty(sv.settings.method, sv.settings.clip);
     // Nothing is left out near a directional or spot light (a spot's own
     // near plane is part of L); `point_maps` sets a point light's r.
     map.light_near = 0.0;
@@ -377,12 +378,25 @@ fn map_fit(sv: &SplitView, light: &Light, f: &Fitted) -> MapFit {
         clip_from_world: f.m,
         clip_from_world_f32: f32_matrix(&f.m, sv.settings.f32_origin),
         f32_exact: f.f32_exact,
-        // The depth row's side of the light decides the test (see `project`).
-        depth_test: if f.m.row(2).dot(lp) < 0.0 { DepthTest::Less } else { DepthTest::Greater },
+        depth_test: depth_test(f.inverted, sv.settings.clip),
         texel_size: [texel_size(&f.m, lp, eye + fwd * sv.camera.near, res), texel_size(&f.m, lp, eye + fwd * sv.camera.far, res)],
         method: f.method,
         warp_near: f.warp_near,
         psm_shift: f.psm_shift,
+        clip: sv.settings.clip,
+    }
+}
+
+/// The depth test of a map: the depth row's side of the light (see
+/// `project`), known from how the row was built rather than from the sign
+/// of the rounded product `z·L`, which rounding decides where the body is
+/// tiny against its coordinates. Every light space's depth row has
+/// `z·L < 0` (less) except PSM's inverted light's; reversed-Z negates it.
+fn depth_test(inverted: bool, clip: ClipConvention) -> DepthTest {
+    if inverted != clip.reversed_z {
+        DepthTest::Greater
+    } else {
+        DepthTest::Less
     }
 }
 
@@ -406,7 +420,7 @@ pub fn fit_map(camera: &Camera, light: &Light, body: &Body, settings: &FocusSett
     settings.validate()?;
     let basis = camera.basis()?;
     if body.is_empty() {
-        return Ok(MapFit::empty(settings.method));
+        return Ok(MapFit::empty(settings.method, settings.clip));
     }
     let sv = SplitView { camera, basis, settings };
     let f = fit_body(&sv, light, body)
@@ -647,7 +661,7 @@ fn plan(out: &mut FocusResult, settings: &FocusSettings, light: &Light, scene: &
         any_shift |= map.fit.psm_shift > 0.0;
         notes.insert(map.notes);
         skipped.insert(map.skipped);
-        if map.fit.depth_test == DepthTest::Greater {
+        if map.fit.inverted() {
             notes.insert(Notes::INVERTED);
         }
         if !map.fit.f32_exact {

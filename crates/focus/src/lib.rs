@@ -13,17 +13,24 @@
 //!
 //! # Conventions
 //!
-//! [`MapFit::clip_from_world`] (a [`ShadowMap`]'s `fit`) maps world points to clip space in the
-//! wgpu/D3D/Vulkan convention: after dividing by `w`, `x, y ∈ [−1, 1]` and
-//! depth `z ∈ [0, 1]`. Render the map with the comparison
-//! [`MapFit::depth_test`] (`Less`, or `Greater` for PSM's inverted
-//! lights) and sample it with the same comparison. Every vertex of the
-//! map's body lies inside the clip volume `w > 0, −w ≤ x, y ≤ w,
-//! 0 ≤ z ≤ w`, in f64 and also with [`MapFit::clip_from_world_f32`] evaluated in
-//! f32. Split ranges are view depths along the camera's forward axis;
-//! [`FocusResult::split_clip_depths`] gives the same planes as depths of the
-//! right-handed camera projection with depth in `[0, 1]` (glam's `dcamera::rh::proj::directx::perspective`):
-//! `z_clip/w_clip = f/(f − n)·(1 − n/z)` at view depth `z`.
+//! [`MapFit::clip_from_world`] (a [`ShadowMap`]'s `fit`) maps world points
+//! to clip space in the convention of [`FocusSettings::clip`]
+//! ([`ClipConvention`]: presets for wgpu, Direct3D, Metal, Vulkan and
+//! OpenGL, each also with reversed-Z): after dividing by `w`, `x, y ∈ [−1, 1]`
+//! and depth `z ∈ [0, 1]` (or `[−1, 1]`). Render the map with the
+//! comparison [`MapFit::depth_test`] — less, or greater with reversed-Z; an
+//! inverted PSM light takes the other one ([`MapFit::inverted`]) — and
+//! sample it with the same comparison through [`MapFit::uv_from_world`]
+//! (texture coordinates in the API's layout, depth as the depth buffer
+//! stores it). Every vertex of the map's body lies inside the clip volume
+//! `w > 0, −w ≤ x, y ≤ w` and `0 ≤ z ≤ w` (resp. `−w ≤ z ≤ w`), in f64 and
+//! also with [`MapFit::clip_from_world_f32`] evaluated in f32. Engines that
+//! keep view and projection apart use [`ShadowMap::light_view`] and
+//! [`ShadowMap::light_projection`]. Split ranges are view depths along the
+//! camera's forward axis; [`FocusResult::split_clip_depths`] gives the same
+//! planes as depths of the right-handed camera projection in the same
+//! convention (by default glam's `dcamera::rh::proj::directx::perspective`:
+//! `z_clip/w_clip = f/(f − n)·(1 − n/z)` at view depth `z`).
 //!
 //! # Cost
 //!
@@ -78,12 +85,14 @@
 //! ```
 
 mod camera;
+pub mod clip;
 mod cone;
 mod cull;
 mod error;
 mod fit;
 mod frame;
 mod hull2;
+mod light_frame;
 mod methods;
 mod predict;
 mod project;
@@ -93,6 +102,7 @@ mod split_view;
 mod splits;
 
 pub use camera::{camera_from_corners, RecoveredCamera};
+pub use clip::{ClipConvention, DepthRange, UvOrigin};
 pub use cull::{cull_casters, CasterRegion, MAX_REGION_PLANES};
 pub use error::FocusError;
 pub use fit::{fit, fit_frustum, fit_map, fit_prepared, PreparedView};

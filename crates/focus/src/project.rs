@@ -11,9 +11,13 @@
 //! for the oriented light point `L`) the stored depth `z/w` changes by
 //! `−μ (z·L)/(w·X)`, so with `w > 0` on the body the point nearer the light
 //! has the smaller depth exactly when `z·L < 0`. That sign is the depth test
-//! ([`crate::DepthTest`]); it is derived, never special-cased, and it is
-//! what makes PSM's inverted lights come out with the reversed test.
+//! ([`crate::DepthTest`]), and it is known from how each depth row is built:
+//! `z·L < 0` for every light space's row but PSM's inverted light's (the
+//! polar row's σ = −1), negated by reversed-Z. The fit takes it from there,
+//! not from the rounded product `z·L`, whose sign rounding decides for a body
+//! tiny against its coordinates.
 
+use crate::clip::ClipConvention;
 use crate::cone::{cone_axis, least_aligned, turn_into_cone};
 use crate::frame::tangent_frame;
 use crate::hull2::hull_area;
@@ -255,8 +259,10 @@ pub(crate) struct Cropped {
 }
 
 /// Crops `m` (with `w > 0` at every point) to the clip volume:
-/// `−w ≤ x, y ≤ w`, `0 ≤ z ≤ w`. Returns `None` if some point's `w` is not
-/// certainly positive (`w ≤ 0`, or within its rounding bound of 0).
+/// `−w ≤ x, y ≤ w`, and `0 ≤ z ≤ w` or `−w ≤ z ≤ w` as `clip` has it (its
+/// depth row from the centred one: see [`crate::clip`]). Returns `None` if
+/// some point's `w` is not certainly positive (`w ≤ 0`, or within its
+/// rounding bound of 0).
 ///
 /// The crop maps the fitted image range `[c − h, c + h]` of each coordinate
 /// to the clip range, and `h` is chosen so that rounding cannot push a point
@@ -276,7 +282,7 @@ pub(crate) struct Cropped {
 /// they give the map the smallest extent the arithmetic can honour. Where
 /// f32 cannot even keep the sign of `w` (`e_w ≥ W` for positions that far
 /// from the origin) only the f64 guarantee is kept and `f32_exact` is false.
-pub(crate) fn crop(m: &DMat4, pts: &[DVec3], origin: DVec3) -> Option<Cropped> {
+pub(crate) fn crop(m: &DMat4, pts: &[DVec3], origin: DVec3, clip: ClipConvention) -> Option<Cropped> {
     let (centre, mut half) = image_box(m, pts)?;
     let (x, y, z, w) = (m.row(0), m.row(1), m.row(2), m.row(3));
     let centred = [x - w * centre.x, y - w * centre.y, z - w * centre.z, w];
@@ -336,7 +342,7 @@ pub(crate) fn crop(m: &DMat4, pts: &[DVec3], origin: DVec3) -> Option<Cropped> {
     // each entry is then rounded twice (2u₆₄), still within K's budget
     // (entry 2u + position u + dot product 4u ≤ 8u).
     let inv = DVec3::ONE / half;
-    let out = from_rows(centred[0] * inv.x, centred[1] * inv.y, (centred[2] + w * half.z) * (0.5 * inv.z), w);
+    let out = from_rows(centred[0] * inv.x, centred[1] * inv.y, clip.depth_row(centred[2], w, half.z, inv.z), w);
     out.is_finite().then_some(Cropped { m: out, f32_exact })
 }
 
@@ -413,7 +419,7 @@ mod tests {
         let d = DVec3::new(0.3, -1.0, 0.2).normalize();
         let pts = [DVec3::ZERO, DVec3::new(1.0, 2.0, 3.0), DVec3::new(-4.0, 0.5, 1.0)];
         let c = central_projection((-d).extend(0.0), &pts, DepthKind::Polar, DVec3::NEG_Z, DVec3::X, None).unwrap();
-        let m = crop(&c.m, &pts, DVec3::ZERO).unwrap().m;
+        let m = crop(&c.m, &pts, DVec3::ZERO, ClipConvention::WGPU).unwrap().m;
         for p in pts {
             assert!(inside(&m, p));
             // Moving along the light keeps the texel and increases depth.
@@ -429,7 +435,7 @@ mod tests {
         let l = DVec3::new(0.0, 10.0, 0.0);
         let pts = [DVec3::new(-3.0, 0.0, -3.0), DVec3::new(3.0, 0.0, -3.0), DVec3::new(0.0, 1.0, 4.0)];
         let c = central_projection(l.extend(1.0), &pts, DepthKind::Perspective, DVec3::NEG_Z, DVec3::X, None).unwrap();
-        let m = crop(&c.m, &pts, DVec3::ZERO).unwrap().m;
+        let m = crop(&c.m, &pts, DVec3::ZERO, ClipConvention::WGPU).unwrap().m;
         for p in pts {
             assert!(inside(&m, p));
             let q = l + (p - l) * 0.7;
@@ -446,7 +452,7 @@ mod tests {
         let l = DVec3::new(2.0, 10.0, -1.0);
         let pts = [DVec3::new(-3.0, 0.0, -3.0), DVec3::new(3.0, 0.5, -3.0), DVec3::new(0.0, 1.0, 4.0), DVec3::new(1.0, -2.0, 0.0)];
         let c = central_projection(l.extend(1.0), &pts, DepthKind::Perspective, DVec3::NEG_Z, DVec3::X, None).unwrap();
-        let m = crop(&c.m, &pts, DVec3::ZERO).unwrap().m;
+        let m = crop(&c.m, &pts, DVec3::ZERO, ClipConvention::WGPU).unwrap().m;
         let image = |p: DVec3| {
             let q = m * h(p);
             (q.x / q.w, q.y / q.w)
@@ -489,7 +495,7 @@ mod tests {
     fn crop_handles_point_bodies() {
         let pts = [DVec3::new(5.0, 5.0, 5.0)];
         let c = central_projection(DVec4::new(0.0, 1.0, 0.0, 0.0), &pts, DepthKind::Polar, DVec3::NEG_Z, DVec3::X, None).unwrap();
-        let m = crop(&c.m, &pts, DVec3::ZERO).unwrap().m;
+        let m = crop(&c.m, &pts, DVec3::ZERO, ClipConvention::WGPU).unwrap().m;
         assert!(m.is_finite() && inside(&m, pts[0]));
     }
 
@@ -498,7 +504,7 @@ mod tests {
         let pts = [DVec3::new(-5.0, 0.0, -5.0), DVec3::new(5.0, 0.0, 5.0), DVec3::new(5.0, 0.0, -5.0), DVec3::new(-5.0, 0.0, 5.0)];
         let down = DVec4::new(0.0, 1.0, 0.0, 0.0); // light above, travelling −y
         let c = central_projection(down, &pts, DepthKind::Polar, DVec3::NEG_Z, DVec3::X, None).unwrap();
-        let m = crop(&c.m, &pts, DVec3::ZERO).unwrap().m;
+        let m = crop(&c.m, &pts, DVec3::ZERO, ClipConvention::WGPU).unwrap().m;
         let s = texel_size(&m, down, DVec3::ZERO, 100);
         // 10 world units over 100 texels, plus the rounding margin.
         assert!((s - 0.1).abs() < 1e-5, "{s}");

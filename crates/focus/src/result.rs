@@ -1,6 +1,7 @@
 //! What a fit returns: per map the matrices an engine uploads, and a plan
 //! saying what the frame skipped and where it fell back.
 
+use crate::clip::ClipConvention;
 use crate::settings::Method;
 use crate::{MAX_MAPS, MAX_SPLITS};
 use glam::{DMat4, Mat4};
@@ -12,7 +13,8 @@ pub enum DepthTest {
     /// Keep the smallest depth (the caster nearest the light).
     Less,
     /// Keep the largest depth: the map's depth decreases toward the light,
-    /// as for PSM's inverted lights (behind the camera).
+    /// as with reversed-Z, or for PSM's inverted lights (behind the camera)
+    /// without it.
     Greater,
 }
 
@@ -71,9 +73,11 @@ impl CubeFace {
 /// A fitted projection: what an engine uploads and renders one map with.
 ///
 /// `clip_from_world` maps world points to the map's clip space in the
-/// wgpu/D3D/Vulkan convention: after the divide by `w`, `x, y ∈ [−1, 1]`
-/// (`+y` up in the map) and depth `z ∈ [0, 1]`. Every vertex of the map's
-/// body lies in the clip volume `w > 0, −w ≤ x, y ≤ w, 0 ≤ z ≤ w`.
+/// convention `clip` ([`crate::FocusSettings::clip`]): after the divide by
+/// `w`, `x, y ∈ [−1, 1]` and depth `z` in the convention's range, `[0, 1]`
+/// or `[−1, 1]`. Every vertex of the map's body lies in the clip volume
+/// `w > 0, −w ≤ x, y ≤ w, z_min·w ≤ z ≤ w` (`z_min` =
+/// [`ClipConvention::depth_min`]).
 /// `clip_from_world_f32` is `clip_from_world · translate(f32_origin)` in
 /// f32: applied in f32 arithmetic to a vertex's position relative to
 /// [`crate::FocusSettings::f32_origin`], rounded to f32, it keeps the vertex
@@ -101,23 +105,51 @@ pub struct MapFit {
     pub warp_near: f64,
     /// PSM's virtual camera shift along −forward (0 when none was needed).
     pub psm_shift: f64,
+    /// The clip convention the matrices are written in.
+    pub clip: ClipConvention,
 }
 
 impl MapFit {
     /// The fit of an empty body: nothing to render, a zero matrix (never
     /// NaN), infinite texels.
-    pub fn empty(method: Method) -> MapFit {
+    pub fn empty(method: Method, clip: ClipConvention) -> MapFit {
         MapFit {
             state: MapState::Empty,
             clip_from_world: DMat4::ZERO,
             clip_from_world_f32: Mat4::ZERO,
             f32_exact: true,
-            depth_test: DepthTest::Less,
+            depth_test: clip.normal_depth_test(),
             texel_size: [f64::INFINITY; 2],
             method,
             warp_near: f64::INFINITY,
             psm_shift: 0.0,
+            clip,
         }
+    }
+
+    /// The matrix a shader looks the map up with: world point to
+    /// `(u, v, depth, 1)·w`, so that after the divide `u, v ∈ [0, 1]` are
+    /// the texture coordinates in the convention's layout and `depth` is
+    /// what the depth buffer holds there, in `[0, 1]` (see
+    /// [`ClipConvention::uv_from_clip`]); compare with `depth_test`.
+    /// Every body vertex has `u, v, depth ∈ [0, 1]` up to the rounding of
+    /// this one product (the containment guarantee is proven for
+    /// `clip_from_world`, which this is an affine image of).
+    pub fn uv_from_world(&self) -> DMat4 {
+        self.clip.uv_from_clip() * self.clip_from_world
+    }
+
+    /// [`MapFit::uv_from_world`] for positions relative to the f32 origin,
+    /// in f32: the lookup rows (halves and ones) applied to
+    /// `clip_from_world_f32`.
+    pub fn uv_from_world_f32(&self) -> Mat4 {
+        self.clip.uv_from_clip().as_mat4() * self.clip_from_world_f32
+    }
+
+    /// Whether the light is inverted for this map (PSM with the light
+    /// behind the camera): its depth test is the convention's other one.
+    pub fn inverted(&self) -> bool {
+        self.state == MapState::Active && self.depth_test != self.clip.normal_depth_test()
     }
 }
 
@@ -155,7 +187,7 @@ impl ShadowMap {
             split: 0,
             face: None,
             split_range: [0.0; 2],
-            fit: MapFit::empty(Method::Uniform),
+            fit: MapFit::empty(Method::Uniform, ClipConvention::WGPU),
             light_near: 0.0,
             light: Light::Directional { direction: glam::DVec3::NEG_Y },
             body: Body::new(),
@@ -176,7 +208,7 @@ impl ShadowMap {
     }
 
     pub(crate) fn set_empty(&mut self) {
-        self.fit = MapFit::empty(self.fit.method);
+        self.fit = MapFit::empty(self.fit.method, self.fit.clip);
     }
 
     /// Where this map departed from the requested method, and why (the
@@ -193,6 +225,23 @@ impl ShadowMap {
 
     pub fn is_active(&self) -> bool {
         self.fit.state == MapState::Active
+    }
+
+    /// The light's view, for engines that keep view and projection apart:
+    /// a rigid, right-handed `view_from_world` looking down its `−z` along
+    /// the map's axis, with `+y` toward the map's `+y`. A point or spot
+    /// light's eye is at the light; a directional light's is behind the
+    /// body (by its bounding box's diagonal), so that the body lies in front.
+    /// `light_projection() · light_view()` is `clip_from_world` up to
+    /// rounding; the containment guarantee is stated for `clip_from_world`.
+    pub fn light_view(&self) -> DMat4 {
+        crate::light_frame::view_from_world(&self.light, &self.fit.clip_from_world, self.body())
+    }
+
+    /// `clip_from_world · light_view()⁻¹`: the map's projection from the
+    /// light's view space (zero for an empty map).
+    pub fn light_projection(&self) -> DMat4 {
+        self.fit.clip_from_world * crate::light_frame::world_from_view(&self.light_view())
     }
 
     /// Fraction of the map's area `[−1, 1]²` that the projection of its
@@ -263,7 +312,9 @@ flags! {
         /// close to the light are not mapped (a perspective map cannot
         /// contain its own centre).
         LIGHT_NEAR = 2, "light_near_truncated";
-        /// Some map uses the reversed (greater) depth test.
+        /// Some map's light is inverted (PSM, light behind the camera): it
+        /// uses the convention's other depth test (greater, or less with
+        /// reversed-Z).
         INVERTED = 3, "inverted_light";
         /// `stable` was requested where it does not apply (non-directional
         /// light or non-uniform method) and was ignored.
@@ -338,9 +389,11 @@ impl FocusResult {
         &self.split_depths[..=self.splits]
     }
 
-    /// The same planes as clip-space depths of the camera projection
-    /// (right-handed, z ∈ [0, 1], as glam's `dcamera::rh::proj::directx::perspective`) [PSSM06 eq. 8]. A fragment
-    /// with clip depth in `[clip[i], clip[i + 1]]` samples split `i`.
+    /// The same planes as clip-space depths of the right-handed camera
+    /// projection in the fit's clip convention ([`ClipConvention::camera_depth`];
+    /// by default `z ∈ [0, 1]`, as glam's `dcamera::rh::proj::directx::perspective`)
+    /// [PSSM06 eq. 8]. A fragment with clip depth between `clip[i]` and
+    /// `clip[i + 1]` samples split `i` (the values decrease with reversed-Z).
     pub fn split_clip_depths(&self) -> &[f64] {
         &self.split_clip[..=self.splits]
     }
@@ -356,11 +409,11 @@ impl FocusResult {
         self.notes = Notes::default();
     }
 
-    pub(crate) fn set_splits(&mut self, depths: &[f64; MAX_SPLITS + 1], m: usize) {
+    pub(crate) fn set_splits(&mut self, depths: &[f64; MAX_SPLITS + 1], m: usize, clip: ClipConvention) {
         self.splits = m;
         self.split_depths = *depths;
         for i in 0..=m {
-            self.split_clip[i] = crate::splits::clip_depth(depths[0], depths[m], depths[i]);
+            self.split_clip[i] = clip.camera_depth(depths[0], depths[m], depths[i]);
         }
     }
 

@@ -1,5 +1,6 @@
 //! What to fit: method, splits, resolution and per-method parameters.
 
+use crate::clip::ClipConvention;
 use crate::error::FocusError;
 use crate::MAX_SPLITS;
 
@@ -208,6 +209,11 @@ pub struct FocusSettings {
     /// Zero means world positions; an engine that renders camera-relative
     /// (large worlds) passes its rebasing origin, e.g. the camera position.
     pub f32_origin: glam::DVec3,
+    /// The clip convention of the API the maps are rendered with: depth
+    /// range, reversed-Z and texture layout (default [`ClipConvention::WGPU`]).
+    /// It decides each map's depth row, its depth test and its lookup
+    /// matrix; which light rays a map covers does not depend on it.
+    pub clip: ClipConvention,
 }
 
 impl Default for FocusSettings {
@@ -225,6 +231,7 @@ impl Default for FocusSettings {
             orientation: MapOrientation::LeastArea,
             warp_guard: true,
             f32_origin: glam::DVec3::ZERO,
+            clip: ClipConvention::WGPU,
         }
     }
 }

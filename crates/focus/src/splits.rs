@@ -38,8 +38,9 @@ pub fn split_depths(near: f64, far: f64, s: &SplitSettings, out: &mut [f64; MAX_
 /// (glam's `dcamera::rh::proj::directx::perspective(…, n, f)`):
 /// `f/(f − n) · (1 − n/z)` — PSSM eq. 8 with its typo (`n − 1/C_i`) corrected.
 /// A fragment with clip depth in `[clip(C_i), clip(C_{i+1})]` uses map `i`.
+/// Other conventions: [`crate::ClipConvention::camera_depth`].
 pub fn clip_depth(near: f64, far: f64, z: f64) -> f64 {
-    far / (far - near) * (1.0 - near / z)
+    crate::ClipConvention::WGPU.camera_depth(near, far, z)
 }
 
 #[cfg(test)]

@@ -13,7 +13,8 @@ fn split_camera(cam: &Camera, r: [f64; 2]) -> Camera {
     Camera { near: r[0], far: r[1], ..*cam }
 }
 
-/// Every map contains its body in the GPU's clip volume (f64 and f32), the
+/// Every map contains its body in the GPU's clip volume (f64 and f32, in
+/// the settings' clip convention), the
 /// body is the exact H_i of its split, the maps' x/y/w rows pass through the
 /// light, and the splits cover [near, far] without gaps.
 fn check_frame(cam: &Camera, light: &Light, scene: &Aabb, s: &FocusSettings, out: &FocusResult) -> Result<(), TestCaseError> {
@@ -22,8 +23,12 @@ fn check_frame(cam: &Camera, light: &Light, scene: &Aabb, s: &FocusSettings, out
     prop_assert_eq!(d[0], cam.near);
     prop_assert_eq!(d[d.len() - 1], cam.far);
     prop_assert!(d.windows(2).all(|w| w[0] <= w[1]), "splits not monotone: {:?}", d);
+    // Camera clip depths in the convention's range, increasing away from
+    // the eye (decreasing with reversed-Z).
+    let z_min = s.clip.depth_min();
     for (i, w) in out.split_clip_depths().windows(2).enumerate() {
-        prop_assert!(w[0] <= w[1] && w[0] >= -1e-12 && w[1] <= 1.0 + 1e-12, "clip depths {i}: {:?}", w);
+        let (a, b) = if s.clip.reversed_z { (w[1], w[0]) } else { (w[0], w[1]) };
+        prop_assert!(a <= b && a >= z_min - 1e-12 && b <= 1.0 + 1e-12, "clip depths {i}: {:?}", w);
     }
     let mut splits_seen = vec![false; s.splits.count];
     for map in out.maps() {
@@ -48,9 +53,9 @@ fn check_frame(cam: &Camera, light: &Light, scene: &Aabb, s: &FocusSettings, out
             prop_assert!(out.notes.contains(Notes::F32_IMPRECISE));
         }
         for p in body.vertices() {
-            prop_assert!(inside_f64(&map.fit.clip_from_world, *p), "vertex {p} outside map (f64) {:?}", map.fit.method);
+            prop_assert!(inside_map_f64(&map.fit, *p), "vertex {p} outside map (f64) {:?}", map.fit.method);
             if map.fit.f32_exact {
-                prop_assert!(inside_f32(&map.fit.clip_from_world_f32, *p), "vertex {p} outside map (f32) {:?}", map.fit.method);
+                prop_assert!(inside_map_f32(&map.fit, *p), "vertex {p} outside map (f32) {:?}", map.fit.method);
             }
         }
         // Rays from the light map to one texel: x, y, w rows contain L.
@@ -68,7 +73,7 @@ fn check_frame(cam: &Camera, light: &Light, scene: &Aabb, s: &FocusSettings, out
         let h = focus_body(&Frustum::from_camera(&sub).unwrap(), &map.light, scene).unwrap();
         prop_assert_eq!(h.vertices().len(), body.vertices().len());
         for p in h.vertices() {
-            prop_assert!(inside_f64(&map.fit.clip_from_world, *p));
+            prop_assert!(inside_map_f64(&map.fit, *p));
         }
     }
     prop_assert!(splits_seen.iter().all(|x| *x), "a split has no map");
@@ -87,7 +92,7 @@ fn check_frame(cam: &Camera, light: &Light, scene: &Aabb, s: &FocusSettings, out
             continue;
         }
         let i = (0..s.splits.count).find(|&i| d[i] <= z && z <= d[i + 1]).unwrap();
-        let covered = out.maps().iter().filter(|m| m.split == i && m.is_active()).any(|m| inside_f64(&m.fit.clip_from_world, p));
+        let covered = out.maps().iter().filter(|m| m.split == i && m.is_active()).any(|m| inside_map_f64(&m.fit, p));
         // Within the split's r of a point light (the maps' light_near).
         let r = out.maps().iter().filter(|m| m.split == i).map(|m| m.light_near).fold(0.0, f64::max);
         let near_light = match light {
@@ -117,7 +122,7 @@ fn check_frame(cam: &Camera, light: &Light, scene: &Aabb, s: &FocusSettings, out
                     continue;
                 }
                 prop_assert!(
-                    maps.iter().any(|m| inside_f64(&m.fit.clip_from_world, *v)),
+                    maps.iter().any(|m| inside_map_f64(&m.fit, *v)),
                     "H vertex {v} of split {i} ({} from the light, r = {r}) in no map",
                     (*v - l).length()
                 );
@@ -187,6 +192,77 @@ proptest! {
                     DepthTest::Less => prop_assert!(za < zb, "less: {za} !< {zb} ({:?})", map.fit.method),
                     DepthTest::Greater => prop_assert!(za > zb, "greater: {za} !> {zb} ({:?})", map.fit.method),
                 }
+            }
+        }
+    }
+
+    /// A clip convention changes only the depth row, and only as the
+    /// `clip` module's table says: the x, y and w rows, the body and the
+    /// method are the default convention's, bit for bit; the depth row is
+    /// the default one mapped to the convention's range (to rounding); the
+    /// depth test flips exactly with reversed-Z. The lookup matrix puts every
+    /// body vertex at u, v, depth in [0, 1] with the convention's layout, and
+    /// the light's view and projection multiply back to `clip_from_world`.
+    #[test]
+    fn conventions_change_only_the_depth_row((cam, scene, light) in frame_strategy(), s in settings_strategy(), clip in clip_strategy()) {
+        let (mut a, mut b) = (FocusResult::new(), FocusResult::new());
+        let base = FocusSettings { clip: ClipConvention::WGPU, ..s };
+        fit(&cam, &light, &scene, &base, &mut a).map_err(|e| TestCaseError::fail(format!("{e}")))?;
+        fit(&cam, &light, &scene, &FocusSettings { clip, ..s }, &mut b).map_err(|e| TestCaseError::fail(format!("{e}")))?;
+        prop_assert_eq!(a.maps().len(), b.maps().len());
+        prop_assert_eq!(a.notes, b.notes);
+        for (x, y) in a.maps().iter().zip(b.maps()) {
+            prop_assert_eq!((x.fit.state, x.fit.method, x.split, x.face), (y.fit.state, y.fit.method, y.split, y.face));
+            prop_assert_eq!(x.body().vertices(), y.body().vertices());
+            prop_assert_eq!(y.fit.clip, clip);
+            if !x.is_active() {
+                prop_assert_eq!(y.fit.depth_test, clip.normal_depth_test());
+                continue;
+            }
+            let (mx, my) = (&x.fit.clip_from_world, &y.fit.clip_from_world);
+            for r in [0, 1, 3] {
+                prop_assert_eq!(mx.row(r).to_array().map(f64::to_bits), my.row(r).to_array().map(f64::to_bits), "row {}", r);
+            }
+            // The default row D has 0 ≤ D ≤ W on the body; the convention's
+            // row is D, W − D, 2D − W or W − 2D.
+            let (d, w) = (mx.row(2), mx.row(3));
+            let want = match (clip.depth, clip.reversed_z) {
+                (DepthRange::ZeroToOne, false) => d,
+                (DepthRange::ZeroToOne, true) => w - d,
+                (DepthRange::MinusOneToOne, false) => d * 2.0 - w,
+                (DepthRange::MinusOneToOne, true) => w - d * 2.0,
+            };
+            let got = my.row(2);
+            let scale = d.abs().max(w.abs()).max_element();
+            prop_assert!((got - want).abs().max_element() <= 1e-12 * scale, "depth row {got} vs {want}");
+            let flipped = x.fit.depth_test != y.fit.depth_test;
+            prop_assert_eq!(flipped, clip.reversed_z, "depth tests {:?} and {:?}", x.fit.depth_test, y.fit.depth_test);
+            prop_assert_eq!(x.fit.inverted(), y.fit.inverted());
+            // The lookup: u, v in [0, 1] with v = 0 at the first texel row.
+            let uv = y.fit.uv_from_world();
+            let top_first = (clip.uv_origin == UvOrigin::TopLeft) != clip.y_down;
+            for p in y.body().vertices() {
+                let (q, c) = (uv * p.extend(1.0), *my * p.extend(1.0));
+                let (u, v, z) = (q.x / q.w, q.y / q.w, q.z / q.w);
+                // Rounding of the products, relative to the magnitudes they cancel.
+                let pa = p.extend(1.0).abs();
+                let mag = |m: &glam::DMat4| (0..4).map(|i| m.row(i).abs().dot(pa)).fold(0.0, f64::max);
+                let tol = 1e-9 + 1e-12 * mag(&uv).max(mag(my)) / q.w.abs().min(c.w.abs());
+                prop_assert!(u >= -tol && u <= 1.0 + tol && v >= -tol && v <= 1.0 + tol && z >= -tol && z <= 1.0 + tol, "lookup ({u}, {v}, {z})");
+                let y_clip = c.y / c.w;
+                let v_want = if top_first { 0.5 - 0.5 * y_clip } else { 0.5 + 0.5 * y_clip };
+                prop_assert!((v - v_want).abs() <= tol, "v {v} vs {v_want}");
+            }
+            // View and projection, apart: a rigid view, and their product.
+            let view = y.light_view();
+            let r = glam::DMat3::from_mat4(view);
+            prop_assert!((r * r.transpose() - glam::DMat3::IDENTITY).to_cols_array().iter().all(|e| e.abs() < 1e-12) && r.determinant() > 0.0);
+            let back = y.light_projection() * view;
+            let scale = my.abs().to_cols_array().iter().fold(0.0f64, |m, v| m.max(*v)) * (1.0 + view.w_axis.truncate().abs().max_element());
+            prop_assert!((back - *my).abs().to_cols_array().iter().all(|e| *e <= 1e-12 * scale), "projection · view != clip_from_world");
+            // The body lies in front of the light's view.
+            for p in y.body().vertices() {
+                prop_assert!((view * p.extend(1.0)).z <= 1e-9 * scale, "body vertex {p} behind the light's view");
             }
         }
     }

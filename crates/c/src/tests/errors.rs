@@ -115,18 +115,6 @@ fn invalid_inputs_are_errors_with_messages() {
 }
 
 #[test]
-fn other_clip_conventions_are_unsupported_for_now() {
-    let ctx = Ctx::new();
-    let unsupported = SfStatus::SF_ERR_UNSUPPORTED as c_int;
-    for edit in [(|s: &mut SfSettings| s.depth_zero_to_one = 0) as fn(&mut SfSettings), |s| s.reversed_z = 1, |s| s.uv_origin_top_left = 0]
-    {
-        let (rc, message) = fit_with(&ctx, |_, _, _, s| edit(s));
-        assert_eq!(rc, unsupported, "{message}");
-        assert!(message.contains("supported so far"), "{message}");
-    }
-}
-
-#[test]
 fn short_map_buffers_are_not_written_and_get_the_count() {
     let ctx = Ctx::new();
     let (cam, light, box_, s) = (camera(5), sun(), scene(), settings(SfMethod::SF_METHOD_LISPSM, 4));

@@ -2,7 +2,9 @@
 
 use super::common::*;
 use crate::*;
-use shadowfocus_focus::{cull_casters, fit, CubeFace, DepthTest, FocusResult, Method, PointMode, ShadowMap};
+use shadowfocus_focus::{
+    cull_casters, fit, ClipConvention, CubeFace, DepthRange, DepthTest, FocusResult, FocusSettings, Method, PointMode, ShadowMap, UvOrigin,
+};
 use shadowfocus_geom::{Aabb, Body, Focuser, Frustum};
 use std::ffi::c_int;
 
@@ -23,6 +25,11 @@ fn assert_same(c: &SfMap, r: &ShadowMap, what: &str) {
     assert_eq!(bits(&c.split), bits(&r.split_range), "{what}: split range");
     assert_eq!(bits(&c.clip_from_world), bits(&r.fit.clip_from_world.to_cols_array()), "{what}: clip_from_world");
     assert_eq!(bits32(&c.clip_from_world_f32), bits32(&r.fit.clip_from_world_f32.to_cols_array()), "{what}: clip_from_world_f32");
+    assert_eq!(bits(&c.uv_from_world), bits(&r.fit.uv_from_world().to_cols_array()), "{what}: uv_from_world");
+    assert_eq!(bits32(&c.uv_from_world_f32), bits32(&r.fit.uv_from_world_f32().to_cols_array()), "{what}: uv_from_world_f32");
+    assert_eq!(bits(&c.light_view), bits(&r.light_view().to_cols_array()), "{what}: light_view");
+    assert_eq!(bits(&c.light_projection), bits(&r.light_projection().to_cols_array()), "{what}: light_projection");
+    assert_eq!(c.inverted != 0, r.fit.inverted(), "{what}: inverted");
     assert_eq!(bits(&c.texel_size), bits(&r.fit.texel_size), "{what}: texel size");
     let method = [Method::Uniform, Method::Psm, Method::Lispsm, Method::Tsm][c.method as usize];
     assert_eq!(method, r.fit.method, "{what}: method");
@@ -33,6 +40,41 @@ fn assert_same(c: &SfMap, r: &ShadowMap, what: &str) {
     assert_eq!(bits(&[c.warp_near, c.psm_shift, c.light_near]), bits(&[r.fit.warp_near, r.fit.psm_shift, r.light_near]), "{what}: scalars");
     assert_eq!((c.notes, c.skipped), (r.notes().0, r.skipped().0), "{what}: notes and skipped");
     assert_eq!(c.body_vertex_count as usize, r.body().vertices().len(), "{what}: body size");
+}
+
+/// Every combination of the four clip fields gives the maps of `fit` with
+/// that `ClipConvention`, bit for bit, and its depth range holds the bodies.
+#[test]
+fn every_clip_convention_gives_the_maps_of_fit() {
+    let ctx = Ctx::new();
+    let mut out = FocusResult::new();
+    let mut maps = vec![canary_map(); SF_MAX_MAPS as usize];
+    let mut greater = 0;
+    for bits4 in 0..16 {
+        let flag = |b: u32| c_int::from(bits4 & (1 << b) != 0);
+        let clip = ClipConvention {
+            depth: if flag(0) != 0 { DepthRange::ZeroToOne } else { DepthRange::MinusOneToOne },
+            reversed_z: flag(1) != 0,
+            uv_origin: if flag(2) != 0 { UvOrigin::TopLeft } else { UvOrigin::BottomLeft },
+            y_down: flag(3) != 0,
+        };
+        for method in METHODS {
+            let mut s = settings(method, 4);
+            (s.depth_zero_to_one, s.reversed_z, s.uv_origin_top_left, s.clip_y_down) = (flag(0), flag(1), flag(2), flag(3));
+            let rs = FocusSettings { clip, ..rust_settings(method, 4) };
+            for light in lights() {
+                let what = format!("{clip:?}, {method:?}, light kind {}", light.kind);
+                fit(&rust_camera(&camera(37)), &rust_light(&light), &rust_scene(), &rs, &mut out).unwrap();
+                let (rc, n) = ctx.fit(&camera(37), &light, &scene(), &s, &mut maps);
+                assert_eq!((rc, n), (0, out.maps().len()), "{what}: {}", ctx.error());
+                for (i, (c, r)) in maps.iter().zip(out.maps()).enumerate() {
+                    assert_same(c, r, &format!("{what}, map {i}"));
+                    greater += usize::from(c.active != 0 && c.depth_greater != 0);
+                }
+            }
+        }
+    }
+    assert!(greater > 0, "reversed-Z gave no map the greater test");
 }
 
 /// sf_fit against fit for every method, 1 and 4 splits, each light kind,

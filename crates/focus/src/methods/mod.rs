@@ -44,6 +44,9 @@ pub(crate) struct Fitted {
     pub stable_ignored: bool,
     /// The f32 matrix keeps the body inside (see `project::crop`).
     pub f32_exact: bool,
+    /// PSM's light is inverted: the depth row was built to grow toward the
+    /// light (the polar row's sign σ = −1, see `project::DepthKind`).
+    pub inverted: bool,
 }
 
 impl Fitted {
@@ -58,6 +61,7 @@ impl Fitted {
             warp_limited: false,
             psm_fell_back: false,
             stable_ignored: false,
+            inverted: false,
         }
     }
 }

@@ -54,26 +54,26 @@ pub(super) fn psm(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted> 
     let mag = verts.iter().map(|p| p.abs().max_element()).fold(0.0, f64::max) + cam.eye.abs().max_element();
     let rho = 16.0 * f64::EPSILON * (mag + cam.near);
     let shift = if zmin < cam.near - rho { cam.near - zmin } else { 0.0 };
-    let plain = |m: &DMat4, shift: f64| {
-        crop(m, verts, sv.settings.f32_origin).map(|c| {
-            let mut out = Fitted::plain(c, Method::Psm);
-            out.psm_shift = shift;
-            out
+    let plain = |(m, inverted): (DMat4, bool), shift: f64| {
+        crop(&m, verts, sv.settings.f32_origin, sv.settings.clip).map(|c| Fitted {
+            psm_shift: shift,
+            inverted,
+            ..Fitted::plain(c, Method::Psm)
         })
     };
     if !sv.settings.warp_guard {
-        return plain(&psm_map(sv, light, body, shift)?, shift);
+        return plain(psm_map(sv, light, body, shift)?, shift);
     }
     let reference = uniform(sv, light, body)?;
     let mut samples = Samples::new(sv, body);
     let lp = light_point(light);
-    let Some(target) = samples.judge(&reference.m, lp) else { return plain(&psm_map(sv, light, body, shift)?, shift) };
+    let Some(target) = samples.judge(&reference.m, lp) else { return plain(psm_map(sv, light, body, shift)?, shift) };
     let spread = zmax - zmin;
     for k in 0..PSM_STEPS {
         let s = shift + if k == 0 { 0.0 } else { spread * 4f64.powi(k - 2) };
-        let Some(m) = psm_map(sv, light, body, s) else { continue };
-        let accepted = crop_estimate(&m, verts).and_then(|e| samples.predict(&e)).is_some_and(|p| p.no_worse_than(&target));
-        if let Some(out) = accepted.then(|| plain(&m, s)).flatten() {
+        let Some(map) = psm_map(sv, light, body, s) else { continue };
+        let accepted = crop_estimate(&map.0, verts).and_then(|e| samples.predict(&e)).is_some_and(|p| p.no_worse_than(&target));
+        if let Some(out) = accepted.then(|| plain(map, s)).flatten() {
             return Some(Fitted { warp_limited: k > 0, ..out });
         }
         if !(spread > 0.0) {
@@ -89,8 +89,9 @@ const PSM_STEPS: i32 = 5;
 
 /// The PSM projection of `body` with the camera's centre moved back by
 /// `shift` (one that keeps every vertex in front of it), oriented, not yet
-/// cropped.
-fn psm_map(sv: &SplitView, light: &Light, body: &Body, shift: f64) -> Option<DMat4> {
+/// cropped; and whether its light is inverted (`L'.w < 0`, the sign the
+/// polar depth row was built with: its depth then grows toward the light).
+fn psm_map(sv: &SplitView, light: &Light, body: &Body, shift: f64) -> Option<(DMat4, bool)> {
     let verts = body.vertices();
     let c = post_perspective(sv.camera, &sv.basis, shift);
     let mut pts = [DVec3::ZERO; MAX_VERTICES];
@@ -109,5 +110,5 @@ fn psm_map(sv: &SplitView, light: &Light, body: &Body, shift: f64) -> Option<DMa
     // however wide the cone (a fallback; the maximin axis is tried first).
     let hint = (lp.w != 0.0).then(|| DVec3::new(0.0, 0.0, -lp.w.signum()));
     let lam = central_projection(lp, &pts[..verts.len()], DepthKind::Polar, v, w, hint)?;
-    Some(orient(&(lam.m * c), verts, sv))
+    Some((orient(&(lam.m * c), verts, sv), lp.w < 0.0))
 }

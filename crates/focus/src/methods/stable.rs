@@ -3,6 +3,7 @@
 
 use super::uniform::uniform;
 use super::{Fitted, SplitView};
+use crate::clip::{ClipConvention, DepthRange};
 use crate::frame::tangent_frame;
 use crate::project::{from_rows, h, Cropped};
 use crate::settings::Method;
@@ -65,7 +66,7 @@ pub(super) fn stable(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitte
         zlo = zlo.min(z);
         zhi = zhi.max(z);
     }
-    let mut zc = 0.5 * (zlo + zhi);
+    let zc = 0.5 * (zlo + zhi);
     let mut zh = (0.5 * (zhi - zlo)).max((zlo.abs().max(zhi.abs()) + r) * (1.0 / (1u64 << 20) as f64));
     let sigma = (8.0 * u * (mag + (zc - d.dot(o)).abs() + zh) / zh).max(4.0 * u);
     let f32_exact = sigma <= 1.0 / 16.0 && m <= 0.25 * r;
@@ -73,11 +74,10 @@ pub(super) fn stable(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitte
     if !(zh.is_finite() && half.is_finite()) {
         return None;
     }
-    zc -= zh;
     let mm = from_rows(
         DVec4::new(ex.x, ex.y, ex.z, -sx) / half,
         DVec4::new(ey.x, ey.y, ey.z, -sy) / half,
-        DVec4::new(d.x, d.y, d.z, -zc) / (2.0 * zh),
+        depth_row(sv.settings.clip, d, zc, zh),
         DVec4::new(0.0, 0.0, 0.0, 1.0),
     );
     // The disk argument above holds for exact arithmetic; check it as every
@@ -85,11 +85,12 @@ pub(super) fn stable(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitte
     // the rounding bound of its clip coordinates (`K u₆₄ Σ|M_rj||p_j|`, as
     // in `crop`). Else the uniform fit (which crops to the body), and the
     // plan says that stability was given up.
+    let z_min = sv.settings.clip.depth_min();
     let holds = mm.is_finite()
         && verts.iter().all(|p| {
             let q = mm * h(*p);
             let e = |r: usize| mm.row(r).abs().dot(h(*p).abs()) * (8.0 * f64::EPSILON);
-            q.x.abs() + e(0) <= 1.0 && q.y.abs() + e(1) <= 1.0 && q.z - e(2) >= 0.0 && q.z + e(2) <= 1.0
+            q.x.abs() + e(0) <= 1.0 && q.y.abs() + e(1) <= 1.0 && q.z - e(2) >= z_min && q.z + e(2) <= 1.0
         });
     if !holds {
         return uniform(sv, light, body).map(|mut f| {
@@ -98,4 +99,19 @@ pub(super) fn stable(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitte
         });
     }
     Some(Fitted::plain(Cropped { m: mm, f32_exact }, Method::Uniform))
+}
+
+/// The depth row for light direction `d` whose depths along `d` lie in
+/// `zc ± zh`, in the convention's range (the rows of [`crate::clip`]'s
+/// table, with `Z_c = d·x − zc` and `W = 1`).
+///
+/// NOTE: the `[0, 1]` row divides by `2 zh` after subtracting `zc − zh`,
+/// as this map always has, so default maps are unchanged bit for bit.
+fn depth_row(clip: ClipConvention, d: DVec3, zc: f64, zh: f64) -> DVec4 {
+    match (clip.depth, clip.reversed_z) {
+        (DepthRange::ZeroToOne, false) => DVec4::new(d.x, d.y, d.z, -(zc - zh)) / (2.0 * zh),
+        (DepthRange::ZeroToOne, true) => DVec4::new(-d.x, -d.y, -d.z, zc + zh) / (2.0 * zh),
+        (DepthRange::MinusOneToOne, false) => DVec4::new(d.x, d.y, d.z, -zc) / zh,
+        (DepthRange::MinusOneToOne, true) => DVec4::new(-d.x, -d.y, -d.z, zc) / zh,
+    }
 }

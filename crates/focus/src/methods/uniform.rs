@@ -17,5 +17,5 @@ pub(super) fn uniform(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitt
 /// least-area rectangle around the body's image, then cropped.
 pub(super) fn uniform_from(m: &DMat4, verts: &[DVec3], sv: &SplitView) -> Option<Fitted> {
     let m = orient(m, verts, sv);
-    Some(Fitted::plain(crop(&m, verts, sv.settings.f32_origin)?, Method::Uniform))
+    Some(Fitted::plain(crop(&m, verts, sv.settings.f32_origin, sv.settings.clip)?, Method::Uniform))
 }

@@ -86,7 +86,7 @@ fn choose_warp(sv: &SplitView, light: &Light, body: &Body, central: &DMat4, m: &
     }
     if !s.warp_guard || w.epsilon == 0.0 {
         // The warp as designed (ε = 0: the unwarped map in the warp's frame).
-        let cropped = match crop(&apply_warp(m, &w), verts, s.f32_origin) {
+        let cropped = match crop(&apply_warp(m, &w), verts, s.f32_origin, s.clip) {
             Some(c) => c,
             None if w.epsilon > 0.0 => return Some(best),
             None => return None,
@@ -113,7 +113,7 @@ fn choose_warp(sv: &SplitView, light: &Light, body: &Body, central: &DMat4, m: &
         if !better {
             continue;
         }
-        if let Some(cropped) = crop(&warped, verts, s.f32_origin) {
+        if let Some(cropped) = crop(&warped, verts, s.f32_origin, s.clip) {
             let mut out = Fitted::plain(cropped, s.method);
             out.warp_near = 1.0 / epsilon;
             out.warp_limited = k > 0;

@@ -6,15 +6,46 @@ use proptest::prelude::*;
 use shadowfocus_focus::*;
 use shadowfocus_geom::{unit_direction, Aabb, Body, Camera, Frustum, Light};
 
-/// The GPU clip test in f64.
+/// The GPU clip test in f64, depth in [0, 1].
 pub fn inside_f64(m: &DMat4, p: DVec3) -> bool {
+    inside_f64_from(m, p, 0.0)
+}
+
+/// The GPU clip test in f64 with depth in `[z_min, 1]`.
+pub fn inside_f64_from(m: &DMat4, p: DVec3, z_min: f64) -> bool {
     let q = *m * p.extend(1.0);
-    q.w > 0.0 && q.x.abs() <= q.w && q.y.abs() <= q.w && q.z >= 0.0 && q.z <= q.w
+    q.w > 0.0 && q.x.abs() <= q.w && q.y.abs() <= q.w && q.z >= z_min * q.w && q.z <= q.w
+}
+
+/// The clip test of a fitted map in its own convention (f64).
+pub fn inside_map_f64(fit: &MapFit, p: DVec3) -> bool {
+    inside_f64_from(&fit.clip_from_world, p, fit.clip.depth_min())
+}
+
+/// The clip test of a fitted map's f32 matrix in its own convention.
+pub fn inside_map_f32(fit: &MapFit, p: DVec3) -> bool {
+    inside_f32_from(&fit.clip_from_world_f32, p, fit.clip.depth_min() as f32)
+}
+
+/// Every clip convention: both depth ranges, reversed-Z, both uv origins,
+/// clip +y up or down.
+pub fn clip_strategy() -> impl Strategy<Value = ClipConvention> {
+    (any::<bool>(), any::<bool>(), any::<bool>(), any::<bool>()).prop_map(|(zero, reversed_z, top, y_down)| ClipConvention {
+        depth: if zero { DepthRange::ZeroToOne } else { DepthRange::MinusOneToOne },
+        reversed_z,
+        uv_origin: if top { UvOrigin::TopLeft } else { UvOrigin::BottomLeft },
+        y_down,
+    })
 }
 
 /// The GPU clip test with the f32 matrix, the point rounded to f32 and f32
 /// arithmetic (row-by-row dot products, as a vertex shader computes them).
 pub fn inside_f32(m: &Mat4, p: DVec3) -> bool {
+    inside_f32_from(m, p, 0.0)
+}
+
+/// [`inside_f32`] with depth in `[z_min, 1]`.
+pub fn inside_f32_from(m: &Mat4, p: DVec3, z_min: f32) -> bool {
     let v = Vec4::new(p.x as f32, p.y as f32, p.z as f32, 1.0);
     let r = |i: usize| {
         let row = m.row(i);
@@ -26,12 +57,12 @@ pub fn inside_f32(m: &Mat4, p: DVec3) -> bool {
     w > 0.0
         && x.abs() <= w
         && y.abs() <= w
-        && z >= 0.0
+        && z >= z_min * w
         && z <= w
         && q.w > 0.0
         && q.x.abs() <= q.w
         && q.y.abs() <= q.w
-        && q.z >= 0.0
+        && q.z >= z_min * q.w
         && q.z <= q.w
 }
 
@@ -101,8 +132,8 @@ pub fn method_strategy() -> impl Strategy<Value = Method> {
 }
 
 pub fn settings_strategy() -> impl Strategy<Value = FocusSettings> {
-    (method_strategy(), 1..=4usize, 0..3u8, 0.0..1.0f64, any::<bool>(), any::<bool>(), any::<bool>()).prop_map(
-        |(method, count, scheme, lambda, stable, middle, cube)| FocusSettings {
+    (method_strategy(), 1..=4usize, 0..3u8, 0.0..1.0f64, any::<bool>(), any::<bool>(), any::<bool>(), clip_strategy()).prop_map(
+        |(method, count, scheme, lambda, stable, middle, cube, clip)| FocusSettings {
             method,
             splits: SplitSettings {
                 count,
@@ -120,6 +151,7 @@ pub fn settings_strategy() -> impl Strategy<Value = FocusSettings> {
                 warp: if middle { WarpDirection::MiddleVector } else { WarpDirection::ViewProjected },
             },
             point: if cube { PointMode::Cube } else { PointMode::Single },
+            clip,
             ..FocusSettings::default()
         },
     )
