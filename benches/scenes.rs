@@ -7,8 +7,8 @@
 //! `cargo bench --bench scenes -- forest/` .
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use shadowfocus::cli::bench::{configs, label};
-use shadowfocus::cli::render::scene_inputs;
+use shadowfocus_cli::cli::bench::{configs, label};
+use shadowfocus_cli::cli::render::scene_inputs;
 use shadowfocus_focus::{fit, FocusResult};
 use shadowfocus_render::{builtin_scene, BUILTIN_SCENES};
 use std::time::Duration;

@@ -1,11 +1,8 @@
-//! Shadowfocus: exact, fast focusing of shadow maps.
-//!
-//! - [`geom`]: exact focus bodies `H = hull(V ∪ l) ∩ S ∩ L` and convex polytopes;
-//! - [`focus`]: shadow-map matrices (uniform, PSM, LiSPSM, TSM, parallel splits);
-//! - [`render`]: a thin headless wgpu renderer for validation scenes.
+//! The `shadowfocus` command line and what its tests share: the subcommands
+//! ([`cli`]) over the library ([`focus`], [`geom`], re-exported from the
+//! `shadowfocus` crate) and the validation renderer ([`render`]).
 
-pub use shadowfocus_focus as focus;
-pub use shadowfocus_geom as geom;
+pub use shadowfocus::{focus, geom};
 pub use shadowfocus_render as render;
 
 pub mod cli;

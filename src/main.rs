@@ -1,6 +1,6 @@
 use clap::{Parser, Subcommand};
-use shadowfocus::cli;
-use shadowfocus::cli::fit::FitOptions;
+use shadowfocus_cli::cli;
+use shadowfocus_cli::cli::fit::FitOptions;
 use std::fs::File;
 use std::io::{self, BufRead, BufReader, BufWriter};
 use std::path::PathBuf;
@@ -146,9 +146,9 @@ fn run(command: Command) -> Result<bool, String> {
             failures(quiet_pipe(cli::fit::run(input, BufWriter::new(io::stdout().lock()), &settings))?)
         }
         Command::Render { scene, options, size, overrides, out } => {
-            let scene = shadowfocus::render::load_scene(&scene).map_err(|e| e.to_string())?;
+            let scene = shadowfocus_cli::render::load_scene(&scene).map_err(|e| e.to_string())?;
             let frame = cli::overrides::Frame::with(&scene, &overrides)?;
-            let mut renderer = shadowfocus::render::Renderer::from_env().map_err(|e| e.to_string())?;
+            let mut renderer = shadowfocus_cli::render::Renderer::from_env().map_err(|e| e.to_string())?;
             let result = cli::render::render_frame_to(&mut renderer, &scene, &frame, &options, size, &out)?;
             println!("{}", serde_json::to_string(&result.metrics).map_err(|e| e.to_string())?);
             Ok(true)
@@ -164,7 +164,7 @@ fn run(command: Command) -> Result<bool, String> {
         }
         Command::Demo { out, size, resolution, scenes, overrides } => {
             let scenes =
-                if scenes.is_empty() { shadowfocus::render::BUILTIN_SCENES.iter().map(|s| s.to_string()).collect() } else { scenes };
+                if scenes.is_empty() { shadowfocus_cli::render::BUILTIN_SCENES.iter().map(|s| s.to_string()).collect() } else { scenes };
             let summary = cli::render::demo(&out, size, resolution, &scenes, &overrides)?;
             eprintln!(
                 "wrote {} renders and {}",

@@ -3,7 +3,7 @@
 //! configuration with finite measurements, decodable PNG plots beside the
 //! SVGs, and a stress report in which the body agrees with the oracle.
 
-use shadowfocus::cli::bench::{run, BenchOptions};
+use shadowfocus_cli::cli::bench::{run, BenchOptions};
 use std::path::{Path, PathBuf};
 
 #[test]

@@ -4,8 +4,8 @@
 
 use glam::DVec3;
 use serde_json::Value;
-use shadowfocus::cli::case::parse_case;
-use shadowfocus::geom::{Body, Focuser};
+use shadowfocus_cli::cli::case::parse_case;
+use shadowfocus_cli::geom::{Body, Focuser};
 use std::path::Path;
 
 const FILES: [&str; 7] = ["classic", "directional", "point", "spot", "scene", "extreme", "smoke"];
@@ -71,7 +71,7 @@ fn check_case(case_line: &str, exp_line: &str) -> Result<(bool, bool), String> {
     // NOTE: both sides are the exact vertices rounded; ours within the proven
     // ROUNDING_ULPS of the input magnitude, CGAL's to nearest.
     let m = magnitude(&case_json);
-    let tol = (shadowfocus::geom::ROUNDING_ULPS + 1.0) * f64::EPSILON * m;
+    let tol = (shadowfocus_cli::geom::ROUNDING_ULPS + 1.0) * f64::EPSILON * m;
     let mut map = vec![usize::MAX; exp.vertices.len()];
     let mut used = vec![false; exp.vertices.len()];
     for (i, v) in body.vertices().iter().enumerate() {

@@ -12,9 +12,9 @@
 //!   intersection: checked over every fixture.
 
 use glam::DVec3;
-use shadowfocus::cli::case::parse_case;
-use shadowfocus::focus::*;
-use shadowfocus::geom::{Aabb, Body, Camera, Focuser, Frustum, Light};
+use shadowfocus_cli::cli::case::parse_case;
+use shadowfocus_cli::focus::*;
+use shadowfocus_cli::geom::{Aabb, Body, Camera, Focuser, Frustum, Light};
 use std::path::Path;
 
 #[path = "support/counting_alloc.rs"]

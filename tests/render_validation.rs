@@ -4,11 +4,11 @@
 //! budget, inverted PSM lights render correctly, and splits cover every
 //! visible pixel.
 
-use shadowfocus::cli::fit::FitOptions;
-use shadowfocus::cli::render::{demo_configs, fit_scene};
-use shadowfocus::cli::sweep::{ADEQUATE_LIMIT, MIN_ADEQUATE_PIXELS};
-use shadowfocus::focus::{ClipConvention, FocusSettings, Method};
-use shadowfocus::render::{builtin_scene, RenderMetrics, RenderRequest, Renderer, Scene};
+use shadowfocus_cli::cli::fit::FitOptions;
+use shadowfocus_cli::cli::render::{demo_configs, fit_scene};
+use shadowfocus_cli::cli::sweep::{ADEQUATE_LIMIT, MIN_ADEQUATE_PIXELS};
+use shadowfocus_cli::focus::{ClipConvention, FocusSettings, Method};
+use shadowfocus_cli::render::{builtin_scene, RenderMetrics, RenderRequest, Renderer, Scene};
 use std::sync::Mutex;
 
 const SIZE: (u32, u32) = (320, 180);
@@ -37,7 +37,7 @@ fn scene(name: &str) -> Scene {
 
 #[test]
 fn every_method_agrees_with_ground_truth_off_edges() {
-    for name in shadowfocus::render::BUILTIN_SCENES {
+    for name in shadowfocus_cli::render::BUILTIN_SCENES {
         let s = scene(name);
         for (label, opts) in demo_configs(RES) {
             let m = render(&s, &opts);
@@ -106,7 +106,7 @@ fn inverted_scene_really_inverts_the_psm_light() {
     let settings = FocusSettings { warp_guard: false, ..opts.settings().unwrap() };
     let (maps, _, summary) = fit_scene(&s, SIZE.0 as f64 / SIZE.1 as f64, &settings).unwrap();
     assert!(
-        maps.iter().any(|m| m.depth_test == shadowfocus::render::DepthTest::Greater),
+        maps.iter().any(|m| m.depth_test == shadowfocus_cli::render::DepthTest::Greater),
         "no reversed depth test in the inverted scene; fit {summary}"
     );
 }
@@ -119,7 +119,7 @@ fn reversed_z_maps_render_the_same_shadows() {
     // depth test, and the shadows agree with the default convention's
     // pixel for pixel up to the rounding of the reversed depths.
     let mut compared = 0;
-    for name in shadowfocus::render::BUILTIN_SCENES {
+    for name in shadowfocus_cli::render::BUILTIN_SCENES {
         let s = scene(name);
         for (label, opts) in demo_configs(RES) {
             let settings = opts.settings().unwrap();
@@ -141,5 +141,5 @@ fn reversed_z_maps_render_the_same_shadows() {
             compared += 1;
         }
     }
-    assert_eq!(compared, shadowfocus::render::BUILTIN_SCENES.len() * 5);
+    assert_eq!(compared, shadowfocus_cli::render::BUILTIN_SCENES.len() * 5);
 }

@@ -17,8 +17,8 @@
 //! Cargo's temporary folder for integration tests (the failure message
 //! names it).
 
-use shadowfocus::cli::sweep::{self, parse_sweep_method, Sweep, SweepPlan, ADEQUATE_LIMIT, MIN_ADEQUATE_PIXELS};
-use shadowfocus::render::{builtin_scene, Renderer};
+use shadowfocus_cli::cli::sweep::{self, parse_sweep_method, Sweep, SweepPlan, ADEQUATE_LIMIT, MIN_ADEQUATE_PIXELS};
+use shadowfocus_cli::render::{builtin_scene, Renderer};
 use std::path::PathBuf;
 use std::sync::Mutex;
 
@@ -133,7 +133,7 @@ fn duelling_frusta_sweep_has_right_shadows_and_warps_no_worse_than_uniform() {
 #[test]
 fn every_other_builtin_scene_sweep_has_right_shadows_and_warps_no_worse_than_uniform() {
     let swept = ["thin-casters", "duelling-frusta"];
-    let others: Vec<_> = shadowfocus::render::BUILTIN_SCENES.iter().filter(|n| !swept.contains(n)).collect();
+    let others: Vec<_> = shadowfocus_cli::render::BUILTIN_SCENES.iter().filter(|n| !swept.contains(n)).collect();
     assert!(others.len() >= 5, "built-in scenes: {others:?}");
     for name in others {
         check(name);

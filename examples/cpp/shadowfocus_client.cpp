@@ -1,16 +1,18 @@
 // A C++17 client of the shadowfocus C ABI: cascaded LiSPSM maps for a sun and
 // a spot light along a 300-frame walk through a 200 m scene. Every map is
-// checked against its focus body (each vertex inside the clip volume, in
-// double and, where f32_exact, with the float matrix in float; and inside
-// the lookup's [0, 1] range), every fourth frame also in OpenGL's clip
-// convention with reversed-Z, a grid of
-// caster boxes is culled, one error path is exercised, and a summary is
-// printed. Exits non-zero on any violation or unexpected error.
+// checked against its focus body: each vertex inside the clip volume (in
+// double and, where f32_exact, with the float matrix in float) and inside
+// the lookup's [0, 1] range; every fourth frame also in OpenGL's clip
+// convention with reversed-Z. A grid of caster boxes is culled, and tested
+// against the caster planes as an engine's own culling would (it must keep
+// the same boxes); the error paths are exercised and a summary is printed.
+// Exits non-zero on any violation or unexpected error.
 //
 // Build and run: examples/cpp/run.sh
 
 #include "shadowfocus.h"
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -111,6 +113,28 @@ bool in_lookup(const double* m, double x, double y, double z) {
     return w > 0.0;
 }
 
+// A box outside one caster plane by more than its rounding casts no shadow.
+bool outside_planes(const double* planes, size_t n, const SfAabb& box) {
+    double c[3], e[3], mag = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        c[k] = 0.5 * (box.min[k] + box.max[k]);
+        e[k] = 0.5 * (box.max[k] - box.min[k]);
+        mag = std::max(mag, std::max(std::fabs(box.min[k]), std::fabs(box.max[k])));
+    }
+    const double slack = mag * std::ldexp(1.0, -36);
+    for (size_t p = 0; p < n; ++p) {
+        const double* q = &planes[4 * p];
+        double s = q[3];
+        for (int k = 0; k < 3; ++k) {
+            s += q[k] * c[k] - std::fabs(q[k]) * e[k];
+        }
+        if (s > slack) {
+            return true;
+        }
+    }
+    return false;
+}
+
 struct Tally {
     long fits = 0;
     long maps = 0;
@@ -170,6 +194,23 @@ void cull(SfContext* ctx, size_t i, const std::vector<SfAabb>& boxes, std::vecto
     for (size_t k = 0; k < n; ++k) {
         if (kept[k] >= boxes.size() || (k > 0 && kept[k] <= kept[k - 1])) {
             std::fprintf(stderr, "map %zu: culling gave a bad index %u\n", i, kept[k]);
+            ++t.violations;
+        }
+    }
+    // The engine's own test against the caster planes keeps the same boxes.
+    std::array<double, 4 * SF_MAX_CASTER_PLANES> planes{};
+    size_t np = 0;
+    if (sf_caster_planes(ctx, i, planes.data(), SF_MAX_CASTER_PLANES, &np) != SF_OK) {
+        report(ctx, "sf_caster_planes", -1, t);
+        return;
+    }
+    size_t next = 0;
+    for (size_t b = 0; b < boxes.size(); ++b) {
+        const bool keep = !outside_planes(planes.data(), np, boxes[b]);
+        const bool kept_by_cull = next < n && kept[next] == b;
+        next += kept_by_cull ? 1 : 0;
+        if (keep != kept_by_cull) {
+            std::fprintf(stderr, "map %zu: box %zu kept %d by the planes, %d by sf_cull_casters\n", i, b, keep, kept_by_cull);
             ++t.violations;
         }
     }

@@ -7,9 +7,9 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use shadowfocus::cli::case::parse_case;
-use shadowfocus::cli::fit::{case_camera, fit_case, prepare_case, run};
-use shadowfocus::focus::{fit_prepared, FocusResult, FocusSettings, Method, PointMode, PreparedView, SplitScheme, SplitSettings};
+use shadowfocus_cli::cli::case::parse_case;
+use shadowfocus_cli::cli::fit::{case_camera, fit_case, prepare_case, run};
+use shadowfocus_cli::focus::{fit_prepared, FocusResult, FocusSettings, Method, PointMode, PreparedView, SplitScheme, SplitSettings};
 use shadowfocus_fuzz::check_result_lines;
 use std::cell::RefCell;
 

@@ -4,8 +4,8 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use shadowfocus::cli::body::run;
-use shadowfocus::cli::case::parse_case;
+use shadowfocus_cli::cli::body::run;
+use shadowfocus_cli::cli::case::parse_case;
 use shadowfocus_fuzz::check_result_lines;
 
 fuzz_target!(|data: &[u8]| {

@@ -24,6 +24,11 @@
 #define SF_MAX_BODY_VERTICES 128
 
 /*
+ Most caster planes of one map (what `sf_caster_planes` may write).
+ */
+#define SF_MAX_CASTER_PLANES 198
+
+/*
  Note: PSM fell back to the uniform map in some map.
  */
 #define SF_NOTE_PSM_FELL_BACK (1 << 0)
@@ -640,6 +645,28 @@ int sf_view_body(struct SfContext *ctx,
                  double *vertices,
                  size_t capacity,
                  size_t *count);
+
+/*
+ Writes the planes of the region whose casters can shadow map
+ `map_index` of the last successful fit to `planes` (a, b, c, d per plane,
+ inside `a x + b y + c z + d <= 0`; room for `capacity` planes, at most
+ `SF_MAX_CASTER_PLANES` are needed) and sets `*count` to their number. A
+ box with centre `c` and half-size `e` outside one plane, `n.c - |n|.e +
+ d > 0` by more than its rounding (in double: 2^-36 of its largest
+ coordinate), casts no shadow into the map; `sf_cull_casters` tests
+ exactly these planes. The planes already include the rounding of the
+ body. `SF_ERR_BUFFER_TOO_SMALL` (nothing written) when `capacity <
+ *count`.
+
+ # Safety
+ `planes` holds `4 * capacity` writable doubles (or is NULL with
+ capacity 0); the other pointers are NULL or valid.
+ */
+int sf_caster_planes(struct SfContext *ctx,
+                     size_t map_index,
+                     double *planes,
+                     size_t capacity,
+                     size_t *count);
 
 /*
  Keeps the caster boxes that may shadow what map `map_index` of the last

@@ -320,6 +320,40 @@ unsafe fn write_body(body: &Body, vertices: *mut f64, capacity: usize, count: *m
     unsafe { write_all(vertices.cast::<[f64; 3]>(), capacity, count, v.len(), "vertices", |i| v[i].to_array()) }
 }
 
+/// Writes the planes of the region whose casters can shadow map
+/// `map_index` of the last successful fit to `planes` (a, b, c, d per plane,
+/// inside `a x + b y + c z + d <= 0`; room for `capacity` planes, at most
+/// `SF_MAX_CASTER_PLANES` are needed) and sets `*count` to their number. A
+/// box with centre `c` and half-size `e` outside one plane, `n.c - |n|.e +
+/// d > 0` by more than its rounding (in double: 2^-36 of its largest
+/// coordinate), casts no shadow into the map; `sf_cull_casters` tests
+/// exactly these planes. The planes already include the rounding of the
+/// body. `SF_ERR_BUFFER_TOO_SMALL` (nothing written) when `capacity <
+/// *count`.
+///
+/// # Safety
+/// `planes` holds `4 * capacity` writable doubles (or is NULL with
+/// capacity 0); the other pointers are NULL or valid.
+#[no_mangle]
+pub unsafe extern "C" fn sf_caster_planes(
+    ctx: *mut SfContext,
+    map_index: usize,
+    planes: *mut f64,
+    capacity: usize,
+    count: *mut usize,
+) -> c_int {
+    // SAFETY: the pointers are valid or NULL (caller); each is checked before use.
+    unsafe {
+        guard(ctx, |ctx| {
+            let count = reset_count(count)?;
+            output(planes, capacity, "planes")?;
+            let mut all = [glam::DVec4::ZERO; shadowfocus_focus::MAX_REGION_PLANES];
+            let n = ctx.caster_planes(map_index, &mut all)?;
+            write_all(planes.cast::<[f64; 4]>(), capacity, count, n, "planes", |i| all[i].to_array())
+        })
+    }
+}
+
 /// Keeps the caster boxes that may shadow what map `map_index` of the last
 /// successful fit covers: writes their indices into `boxes`, in increasing
 /// order, to `out_indices` and sets `*count` to how many. Conservative:

@@ -121,6 +121,8 @@ pub const SF_MAX_SPLITS: u32 = 8;
 pub const SF_MAX_MAPS: u32 = 48;
 /// Most vertices of a focus body.
 pub const SF_MAX_BODY_VERTICES: u32 = 128;
+/// Most caster planes of one map (what `sf_caster_planes` may write).
+pub const SF_MAX_CASTER_PLANES: u32 = 198;
 
 /// Note: PSM fell back to the uniform map in some map.
 pub const SF_NOTE_PSM_FELL_BACK: u32 = 1 << 0;

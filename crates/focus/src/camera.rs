@@ -7,6 +7,7 @@ use shadowfocus_geom::{Camera, Frustum};
 /// A camera recovered from corners, and how well it reproduces them.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RecoveredCamera {
+    /// The camera whose frustum has these corners.
     pub camera: Camera,
     /// Largest distance between a given corner and the recovered camera's
     /// corner, relative to the largest eye–corner distance. Around 1e-15

@@ -27,6 +27,7 @@ use glam::{DMat4, DVec4};
 
 /// The range of clip depth `z/w` that the rasteriser keeps.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum DepthRange {
     /// `0 ≤ z/w ≤ 1`: wgpu, Vulkan, Direct3D, Metal (and OpenGL with
     /// `glClipControl(…, GL_ZERO_TO_ONE)`).
@@ -38,6 +39,7 @@ pub enum DepthRange {
 /// Where texture coordinate `v = 0` lies: at the texel row the API stores
 /// first.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum UvOrigin {
     /// The first row is the image's top (wgpu, Vulkan, Direct3D, Metal).
     TopLeft,
@@ -50,11 +52,14 @@ pub enum UvOrigin {
 /// presets name the APIs, and [`ClipConvention::reversed`] turns on
 /// reversed-Z for any of them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ClipConvention {
+    /// The clip depth range.
     pub depth: DepthRange,
     /// Depth 1 (the range's top) nearest the light, decreasing away from
     /// it; rendered and sampled with the greater test.
     pub reversed_z: bool,
+    /// Which texel row `v = 0` names.
     pub uv_origin: UvOrigin,
     /// Clip `+y` points down the rendered image (Vulkan); up otherwise.
     pub y_down: bool,

@@ -37,19 +37,21 @@ use crate::result::ShadowMap;
 use glam::{DVec3, DVec4};
 use shadowfocus_geom::{Aabb, Body, Dimension, Light};
 
-/// Most planes a region can have: the body's faces plus one silhouette
-/// plane per edge.
-pub const MAX_REGION_PLANES: usize = 3 * shadowfocus_geom::MAX_FACES;
+/// Most planes a region can have: the body's faces, one silhouette plane
+/// per edge and the six sides of the bounding box.
+pub const MAX_REGION_PLANES: usize = 3 * shadowfocus_geom::MAX_FACES + 6;
 
 /// Relative rounding allowance (2⁻⁴⁰ ≈ 1e-12 of the magnitudes involved):
 /// far above the error of the f64 expressions below and of the body's
 /// rounded vertices, far below any geometric feature size that matters.
 const REL: f64 = 1.0 / (1u64 << 40) as f64;
 
-/// The region of one map that casters must meet to matter.
+/// The region of one map that casters must meet to matter, as planes an
+/// engine can test its own bounding volumes against ([`CasterRegion::planes`]).
 #[derive(Clone, Debug)]
 pub struct CasterRegion {
-    /// Inside is `n·x + w ≤ 0`.
+    /// Inside is `n·x + w ≤ 0`; pushed out by the rounding allowance once
+    /// the region is built (`seal`).
     planes: [DVec4; MAX_REGION_PLANES],
     n_planes: usize,
     /// Bounding box of R (±∞ where the sweep is unbounded).
@@ -82,7 +84,7 @@ impl CasterRegion {
             empty: h.is_empty(),
         };
         if r.empty {
-            return r;
+            return r.seal();
         }
         let lp = light_point(light);
         let verts = h.vertices();
@@ -111,7 +113,7 @@ impl CasterRegion {
         };
         if h.dimension() != Dimension::Solid {
             // Flat bodies: the bounding box alone (conservative).
-            return r;
+            return r.seal();
         }
         let planes = h.face_planes();
         // Keep a face iff it certainly does not face the light.
@@ -151,7 +153,34 @@ impl CasterRegion {
                 }
             }
         }
-        r
+        r.seal()
+    }
+
+    /// Adds the bounding box's finite sides as planes and pushes every plane
+    /// out by its rounding allowance `16 REL (mag + |w|)`, so that the
+    /// planes alone state the region. An empty region is the one plane
+    /// `1 ≤ 0`, which no box satisfies.
+    fn seal(mut self) -> CasterRegion {
+        if self.empty {
+            self.n_planes = 0;
+            self.push(DVec4::W);
+            return self;
+        }
+        for k in 0..3 {
+            let axis = DVec3::AXES[k];
+            // x_k ≥ lo_k, i.e. −x_k + lo_k ≤ 0; x_k ≤ hi_k, i.e. x_k − hi_k ≤ 0.
+            if self.lo[k].is_finite() {
+                self.push((-axis).extend(self.lo[k]));
+            }
+            if self.hi[k].is_finite() {
+                self.push(axis.extend(-self.hi[k]));
+            }
+        }
+        let mag = self.mag;
+        for p in &mut self.planes[..self.n_planes] {
+            p.w -= REL * 16.0 * (mag + p.w.abs());
+        }
+        self
     }
 
     fn push(&mut self, p: DVec4) {
@@ -199,29 +228,47 @@ impl CasterRegion {
         self.empty
     }
 
-    /// `false` only when the box provably misses the region.
+    /// The region as planes `(n, w)`, inside `n·x + w ≤ 0`: the faces of
+    /// `H` that do not face the light, the silhouette planes of `H` swept
+    /// toward the light, and the sides of that sweep's bounding box, each
+    /// already pushed out by the region's rounding allowance (an empty region
+    /// is the single plane `1 ≤ 0`). Every point that can shadow the map is
+    /// inside every plane, so a bounding volume wholly outside one plane
+    /// casts no shadow into it. For a box with centre `c` and half-size `e`
+    /// that is `n·c − |n|·e + w > 0`; evaluated in f64, require more than
+    /// `2⁻³⁶ · max |box coordinate|` (what [`CasterRegion::may_shadow`]
+    /// does), in f32 more than `2⁻²⁰ (|n|·|c| + |n|·e + |w|)`.
+    pub fn planes(&self) -> &[DVec4] {
+        &self.planes[..self.n_planes]
+    }
+
+    /// `false` only when the box provably misses the region: it lies
+    /// outside one of [`CasterRegion::planes`] by more than its rounding.
     pub fn may_shadow(&self, b: &Aabb) -> bool {
-        if self.empty {
-            return false;
-        }
         let bmag = b.min.abs().max(b.max.abs()).max_element();
-        let slack = REL * 16.0 * (self.mag + bmag);
-        for k in 0..3 {
-            if b.max[k] < self.lo[k] - slack || b.min[k] > self.hi[k] + slack {
-                return false;
-            }
-        }
+        let slack = REL * 16.0 * bmag;
         let c = (b.min + b.max) * 0.5;
         let e = (b.max - b.min) * 0.5;
-        for p in &self.planes[..self.n_planes] {
+        // NOTE: `!(s > slack)` keeps a box whose test is NaN.
+        !self.planes().iter().any(|p| {
             let n = p.truncate();
-            let s = n.dot(c) - n.abs().dot(e) + p.w;
-            if s > slack + REL * 16.0 * p.w.abs() {
-                return false;
-            }
-        }
-        true
+            n.dot(c) - n.abs().dot(e) + p.w > slack
+        })
     }
+}
+
+/// Writes the planes of the region whose casters can shadow `map`
+/// ([`CasterRegion::planes`]) to `out`; returns how many. `out` must hold
+/// [`MAX_REGION_PLANES`] planes (checked first: [`FocusError::Capacity`]).
+/// [`cull_casters`] tests boxes against exactly these planes.
+pub fn caster_planes(map: &ShadowMap, out: &mut [DVec4]) -> Result<usize, FocusError> {
+    if out.len() < MAX_REGION_PLANES {
+        return Err(FocusError::Capacity { what: "caster_planes output (it must hold MAX_REGION_PLANES planes)" });
+    }
+    let region = CasterRegion::of_map(map);
+    let planes = region.planes();
+    out[..planes.len()].copy_from_slice(planes);
+    Ok(planes.len())
 }
 
 /// Writes to `out` the indices of the casters that may shadow `map`;

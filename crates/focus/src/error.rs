@@ -9,14 +9,28 @@ pub enum FocusError {
     /// The geometry core rejected an input (camera, light, scene box, frustum).
     Geom(GeomError),
     /// A setting is out of its documented range.
-    InvalidSettings { what: &'static str, reason: &'static str },
+    InvalidSettings {
+        /// The setting's field path, e.g. `splits.count`.
+        what: &'static str,
+        /// Its documented range.
+        reason: &'static str,
+    },
     /// Eight corners that do not describe a symmetric perspective frustum.
-    InvalidCorners { reason: &'static str },
+    InvalidCorners {
+        /// Which property of the corners fails.
+        reason: &'static str,
+    },
     /// No single projection from the light sees the whole body (a spot
     /// light whose position is not the apex of its frustum).
-    NoSingleProjection { reason: &'static str },
+    NoSingleProjection {
+        /// Why no projection exists.
+        reason: &'static str,
+    },
     /// The output buffer is smaller than the fit needs.
-    Capacity { what: &'static str },
+    Capacity {
+        /// The buffer that is too small.
+        what: &'static str,
+    },
 }
 
 impl fmt::Display for FocusError {

@@ -133,6 +133,7 @@ impl PreparedView {
         Ok(())
     }
 
+    /// The settings the view was prepared with.
     pub fn settings(&self) -> &FocusSettings {
         &self.settings
     }

@@ -84,6 +84,8 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+#![deny(missing_docs)]
+
 mod camera;
 pub mod clip;
 mod cone;
@@ -97,13 +99,15 @@ mod methods;
 mod predict;
 mod project;
 mod result;
+#[cfg(feature = "serde")]
+mod serde_float;
 mod settings;
 mod split_view;
 mod splits;
 
 pub use camera::{camera_from_corners, RecoveredCamera};
 pub use clip::{ClipConvention, DepthRange, UvOrigin};
-pub use cull::{cull_casters, CasterRegion, MAX_REGION_PLANES};
+pub use cull::{caster_planes, cull_casters, CasterRegion, MAX_REGION_PLANES};
 pub use error::FocusError;
 pub use fit::{fit, fit_frustum, fit_map, fit_prepared, PreparedView};
 pub use frame::S0 as ORIENTATION_BLEND_SIN;

@@ -9,6 +9,7 @@ use shadowfocus_geom::{Body, Focuser, Light};
 
 /// The depth comparison a map must be rendered and sampled with.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum DepthTest {
     /// Keep the smallest depth (the caster nearest the light).
     Less,
@@ -19,6 +20,7 @@ pub enum DepthTest {
 }
 
 impl DepthTest {
+    /// The name used in reports and JSON.
     pub fn name(self) -> &'static str {
         match self {
             DepthTest::Less => "less",
@@ -29,6 +31,7 @@ impl DepthTest {
 
 /// Whether a map has anything to render.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum MapState {
     /// The map covers its (non-empty) body.
     Active,
@@ -40,16 +43,24 @@ pub enum MapState {
 
 /// One face of an omnidirectional point light's cube.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum CubeFace {
+    /// Looking along +x.
     PosX,
+    /// Looking along −x.
     NegX,
+    /// Looking along +y.
     PosY,
+    /// Looking along −y.
     NegY,
+    /// Looking along +z.
     PosZ,
+    /// Looking along −z.
     NegZ,
 }
 
 impl CubeFace {
+    /// The six faces, in the order the fit emits them.
     pub const ALL: [CubeFace; 6] = [CubeFace::PosX, CubeFace::NegX, CubeFace::PosY, CubeFace::NegY, CubeFace::PosZ, CubeFace::NegZ];
 
     /// The direction the face looks along and its up vector.
@@ -65,6 +76,7 @@ impl CubeFace {
         }
     }
 
+    /// The name used in reports and JSON.
     pub fn name(self) -> &'static str {
         ["+x", "-x", "+y", "-y", "+z", "-z"][self as usize]
     }
@@ -85,23 +97,30 @@ impl CubeFace {
 /// resolve the body at that distance from the origin; then rebase). Columns
 /// are glam's (column-major) order.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct MapFit {
+    /// Whether there is anything to render.
     pub state: MapState,
+    /// World to clip space in the convention `clip` (column-major).
     pub clip_from_world: DMat4,
+    /// `clip_from_world · translate(f32_origin)` rounded to f32.
     pub clip_from_world_f32: Mat4,
     /// Whether the f32 guarantee above holds.
     pub f32_exact: bool,
+    /// The comparison to render and sample the map with.
     pub depth_test: DepthTest,
     /// World size of one texel (square root of its footprint area on the
     /// plane perpendicular to the light ray) on the camera axis at the
     /// split's near and far depth; infinite where the map does not see that
     /// point.
+    #[cfg_attr(feature = "serde", serde(with = "crate::serde_float::pair"))]
     pub texel_size: [f64; 2],
     /// The method that produced the matrix (PSM may fall back to uniform).
     pub method: Method,
     /// Distance (in the map's image units) from the warp's projection centre
     /// to the body's near end: LiSPSM's `n_opt`, TSM's η; infinite when the
     /// map has no warp.
+    #[cfg_attr(feature = "serde", serde(with = "crate::serde_float"))]
     pub warp_near: f64,
     /// PSM's virtual camera shift along −forward (0 when none was needed).
     pub psm_shift: f64,
@@ -223,6 +242,7 @@ impl ShadowMap {
         self.skipped
     }
 
+    /// Whether the map has a body to render ([`MapState::Active`]).
     pub fn is_active(&self) -> bool {
         self.fit.state == MapState::Active
     }
@@ -265,13 +285,18 @@ macro_rules! flags {
     ($(#[$m:meta])* $name:ident { $($(#[$fm:meta])* $flag:ident = $bit:expr, $label:expr;)* }) => {
         $(#[$m])*
         #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+        #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
         pub struct $name(pub u32);
         impl $name {
             $($(#[$fm])* pub const $flag: $name = $name(1 << $bit);)*
             const ALL: &'static [($name, &'static str)] = &[$(($name::$flag, $label)),*];
+            /// Whether every flag of `f` is set.
             pub fn contains(self, f: $name) -> bool { self.0 & f.0 == f.0 }
+            /// Sets the flags of `f`.
             pub fn insert(&mut self, f: $name) { self.0 |= f.0; }
+            /// Clears the flags of `f`.
             pub fn remove(&mut self, f: $name) { self.0 &= !f.0; }
+            /// Whether no flag is set.
             pub fn is_empty(self) -> bool { self.0 == 0 }
             /// Names of the set flags, for reports.
             pub fn names(self) -> impl Iterator<Item = &'static str> {
@@ -338,7 +363,9 @@ pub struct FocusResult {
     split_depths: [f64; MAX_SPLITS + 1],
     split_clip: [f64; MAX_SPLITS + 1],
     splits: usize,
+    /// Work the frame did not need.
     pub skipped: Skipped,
+    /// Where the frame departed from the request, and why.
     pub notes: Notes,
     /// The body engines' work space, shared by every map.
     focuser: Focuser,
@@ -398,6 +425,7 @@ impl FocusResult {
         &self.split_clip[..=self.splits]
     }
 
+    /// Number of splits of the last fit.
     pub fn split_count(&self) -> usize {
         self.splits
     }

@@ -6,6 +6,7 @@ use crate::MAX_SPLITS;
 
 /// The shadow-map parameterisation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Method {
     /// Focused standard map: orthographic (directional) or perspective from
     /// the light, fitted tightly to `H`.
@@ -22,6 +23,7 @@ pub enum Method {
 }
 
 impl Method {
+    /// The name used in reports and JSON.
     pub fn name(self) -> &'static str {
         match self {
             Method::Uniform => "uniform",
@@ -34,20 +36,26 @@ impl Method {
 
 /// How the view depth range is cut into parallel splits [PSSM06 §3.3].
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum SplitScheme {
     /// `C_i = n + (f − n) i/m` (eq. 5).
     Uniform,
     /// `C_i = n (f/n)^(i/m)` (eq. 4).
     Log,
     /// `C_i = λ C_i^log + (1 − λ) C_i^uniform` — eq. 6 is λ = ½.
-    Practical { lambda: f64 },
+    Practical {
+        /// The weight λ ∈ [0, 1] of the logarithmic planes.
+        lambda: f64,
+    },
 }
 
 /// Parallel splits of the view frustum.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SplitSettings {
     /// Number of splits, `1..=MAX_SPLITS`; 1 is a single map.
     pub count: usize,
+    /// How the split planes are placed.
     pub scheme: SplitScheme,
     /// Non-negative shift of the inner split planes (δ_bias of eq. 7); the
     /// outer planes stay at the camera's near and far.
@@ -62,6 +70,7 @@ impl Default for SplitSettings {
 
 /// Which vector orients the LiSPSM warp.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum WarpDirection {
     /// The view direction projected perpendicular to the light.
     ViewProjected,
@@ -70,10 +79,13 @@ pub enum WarpDirection {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
+/// Light-space perspective shadow maps [LiSPSM04].
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct LispsmSettings {
     /// A visible far distance (e.g. from occlusion culling). Only tightens
     /// `Δz` in `n_opt`; `H` is still computed from the full view frustum.
     pub visible_far: Option<f64>,
+    /// The vector the warp is oriented by.
     pub warp: WarpDirection,
 }
 
@@ -84,6 +96,8 @@ impl Default for LispsmSettings {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
+/// Perspective shadow maps [PSM02].
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct PsmSettings {
     /// A tightened near distance (minimum visible depth read back by the
     /// engine). PSM then fits to the view frustum `[near, far]` with this
@@ -96,6 +110,8 @@ pub struct PsmSettings {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
+/// Trapezoidal shadow maps [TSM04].
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct TsmSettings {
     /// Distance δ of the focus point beyond the near plane, as a fraction of
     /// the split's depth range; the focus point is mapped to the 80 % line.
@@ -110,6 +126,7 @@ impl Default for TsmSettings {
 
 /// How a map's image is turned about its projection axis.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum MapOrientation {
     /// Uniform and PSM maps are turned so that the least-area rectangle
     /// around the body's image fills the map; warped maps put their warp
@@ -126,6 +143,7 @@ pub enum MapOrientation {
 
 /// How a point light is covered.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum PointMode {
     /// One perspective map from the light toward the view; six cube faces
     /// when the light lies in the view frustum (no single map can see it).
@@ -145,13 +163,17 @@ pub enum PointMode {
 /// off lies within `r`), and gives way to six cube faces, each cut at
 /// `r/√3`, where its cone is wider than a cube face's (`t_x² + t_y² > 2`).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum LightNear {
     /// `r = fraction · R`, with `R` the light's reach over the split: the
     /// largest max-norm distance from the light to a corner of the split's
     /// frustum or, if smaller, of the scene box (an upper bound of the
     /// distance from the light to any point of `H_i`, in the max norm). `r`
     /// then follows the scene's scale; `fraction` lies in `(0, 1)`.
-    Auto { fraction: f64 },
+    Auto {
+        /// `r` over the light's reach.
+        fraction: f64,
+    },
     /// A fixed `r` in world units (e.g. the light's own radius); finite and
     /// positive.
     Fixed(f64),
@@ -179,17 +201,24 @@ impl Default for LightNear {
 
 /// Everything a fit needs besides camera, light and scene.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct FocusSettings {
+    /// The parameterisation (default uniform).
     pub method: Method,
+    /// Parallel splits of the view (default one).
     pub splits: SplitSettings,
     /// Shadow-map resolution in texels (square maps), ≥ 4.
     pub resolution: u32,
     /// Texel-snapped, camera-rotation-invariant fitting (directional lights
     /// with the uniform method; ignored otherwise, and said so in the plan).
     pub stable: bool,
+    /// LiSPSM parameters.
     pub lispsm: LispsmSettings,
+    /// PSM parameters.
     pub psm: PsmSettings,
+    /// TSM parameters.
     pub tsm: TsmSettings,
+    /// How point lights are covered.
     pub point: PointMode,
     /// Distance from a point light below which casters may be left out of
     /// its maps (see [`LightNear`]; by default a fraction of the light's

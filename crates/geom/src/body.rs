@@ -9,10 +9,15 @@ use glam::{DVec3, DVec4};
 /// Dimension of a focus body.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Dimension {
+    /// No point.
     Empty,
+    /// A single point.
     Point,
+    /// A segment.
     Segment,
+    /// A convex polygon.
     Polygon,
+    /// A convex polytope with volume.
     Solid,
 }
 
@@ -169,10 +174,12 @@ impl Body {
         self.n_faces = 0;
     }
 
+    /// What kind of convex set the body is.
     pub fn dimension(&self) -> Dimension {
         Dimension::from_i8(self.dim)
     }
 
+    /// Whether the body has no point.
     pub fn is_empty(&self) -> bool {
         self.dim < 0
     }
@@ -183,6 +190,7 @@ impl Body {
         &self.verts[..self.n_verts]
     }
 
+    /// Number of faces (0 unless solid).
     pub fn face_count(&self) -> usize {
         self.n_faces
     }
@@ -201,6 +209,7 @@ impl Body {
         &self.idx[self.face_start[i] as usize..self.face_start[i + 1] as usize]
     }
 
+    /// Each face as indices into [`Body::vertices`], in order around the face.
     pub fn faces(&self) -> impl Iterator<Item = &[u16]> + '_ {
         (0..self.n_faces).map(move |i| self.face_unchecked(i))
     }
@@ -211,6 +220,7 @@ impl Body {
         &self.face_planes[..self.n_faces]
     }
 
+    /// What the computation of this body skipped and which engine answered.
     pub fn stats(&self) -> &FocusStats {
         &self.stats
     }

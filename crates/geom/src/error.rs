@@ -7,23 +7,46 @@ use std::fmt;
 #[derive(Clone, Debug, PartialEq)]
 pub enum GeomError {
     /// A coordinate or parameter is NaN or infinite.
-    NonFinite { what: &'static str },
+    NonFinite {
+        /// The input holding the value.
+        what: &'static str,
+    },
     /// The eight corners of a frustum do not bound a convex solid with the
     /// frustum's face structure (coincident corners, flat, twisted, non-convex).
-    DegenerateFrustum { what: &'static str, reason: &'static str },
+    DegenerateFrustum {
+        /// The frustum (view, spot light).
+        what: &'static str,
+        /// Which property of its corners fails.
+        reason: &'static str,
+    },
     /// A box whose `min` exceeds its `max` on some axis.
-    InvertedBox { axis: usize },
+    InvertedBox {
+        /// 0, 1 or 2 for x, y, z.
+        axis: usize,
+    },
     /// A direction (directional light, camera forward/up) of zero length.
-    ZeroDirection { what: &'static str },
+    ZeroDirection {
+        /// The direction's input.
+        what: &'static str,
+    },
     /// A camera description that cannot produce a frustum.
-    InvalidCamera { reason: &'static str },
+    InvalidCamera {
+        /// Which camera parameter is out of range.
+        reason: &'static str,
+    },
     /// The body would need more vertices, faces or planes than the fixed
     /// capacity. Cannot happen for frustum/box/light inputs; guards the
     /// general polytope API.
-    CapacityExceeded { what: &'static str },
+    CapacityExceeded {
+        /// The capacity exceeded (vertices, faces, planes).
+        what: &'static str,
+    },
     /// A polytope operation that is not defined for the polytope's
     /// current representation.
-    Unsupported { reason: &'static str },
+    Unsupported {
+        /// What is not defined.
+        reason: &'static str,
+    },
 }
 
 impl fmt::Display for GeomError {

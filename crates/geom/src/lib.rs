@@ -47,6 +47,8 @@
 //! # Ok::<(), shadowfocus_geom::GeomError>(())
 //! ```
 
+#![deny(missing_docs)]
+
 mod arith;
 mod body;
 mod engine;

@@ -3,7 +3,8 @@
 use super::common::*;
 use crate::*;
 use shadowfocus_focus::{
-    cull_casters, fit, ClipConvention, CubeFace, DepthRange, DepthTest, FocusResult, FocusSettings, Method, PointMode, ShadowMap, UvOrigin,
+    caster_planes, cull_casters, fit, ClipConvention, CubeFace, DepthRange, DepthTest, FocusResult, FocusSettings, Method, PointMode,
+    ShadowMap, UvOrigin,
 };
 use shadowfocus_geom::{Aabb, Body, Focuser, Frustum};
 use std::ffi::c_int;
@@ -188,6 +189,21 @@ fn view_body_and_culling_match_the_library() {
             let mut want = vec![0u32; boxes.len()];
             let kept = cull_casters(&out.maps()[i], &rust_boxes, &mut want).unwrap();
             assert_eq!(&got[..count], &want[..kept]);
+            // The caster planes, bit for bit; a short buffer gets the count only.
+            let mut planes = vec![[f64::NAN; 4]; SF_MAX_CASTER_PLANES as usize];
+            let mut np = 0;
+            // SAFETY: `planes` holds SF_MAX_CASTER_PLANES planes of four doubles.
+            let rc = unsafe { sf_caster_planes(ctx.0, i, planes.as_mut_ptr().cast(), planes.len(), &mut np) };
+            assert_eq!(rc, 0, "{}", ctx.error());
+            let mut want_planes = [glam::DVec4::ZERO; shadowfocus_focus::MAX_REGION_PLANES];
+            let wn = caster_planes(&out.maps()[i], &mut want_planes).unwrap();
+            assert!(np > 0 && np == wn);
+            assert_eq!(bits(planes[..np].as_flattened()), bits(&want_planes[..wn].iter().flat_map(|p| p.to_array()).collect::<Vec<_>>()));
+            let mut short = vec![[f64::NAN; 4]; np - 1];
+            // SAFETY: `short` holds np − 1 planes.
+            let rc = unsafe { sf_caster_planes(ctx.0, i, short.as_mut_ptr().cast(), short.len(), &mut np) };
+            assert_eq!((rc, np), (SfStatus::SF_ERR_BUFFER_TOO_SMALL as c_int, wn));
+            assert!(short.as_flattened().iter().all(|x| x.is_nan()), "a short buffer was written");
             kept_total += kept;
             culled_total += boxes.len() - kept;
         }
@@ -202,6 +218,7 @@ fn constants_match_the_library() {
     assert_eq!(SF_MAX_SPLITS as usize, MAX_SPLITS);
     assert_eq!(SF_MAX_MAPS as usize, MAX_MAPS);
     assert_eq!(SF_MAX_BODY_VERTICES as usize, shadowfocus_geom::MAX_VERTICES);
+    assert_eq!(SF_MAX_CASTER_PLANES as usize, shadowfocus_focus::MAX_REGION_PLANES);
     let notes = [
         (SF_NOTE_PSM_FELL_BACK, Notes::PSM_FELL_BACK),
         (SF_NOTE_POINT_AS_CUBE, Notes::POINT_AS_CUBE),

@@ -12,15 +12,34 @@ use glam::DVec3;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Plane {
     /// `normal · x + offset ≤ 0`, taking the coefficients as exact numbers.
-    Coefficients { normal: DVec3, offset: f64 },
+    Coefficients {
+        /// The normal, pointing outside.
+        normal: DVec3,
+        /// The constant term.
+        offset: f64,
+    },
     /// The plane through three points; inside is where the points appear
     /// clockwise, i.e. the normal `(q − p) × (r − p)` points outside.
     Points([DVec3; 3]),
     /// The plane through `p`, `q` and the point at infinity in `direction`,
     /// oriented like `Points([p, q, p + t·direction])` for t > 0.
-    PointsDirection { p: DVec3, q: DVec3, direction: DVec3 },
+    PointsDirection {
+        /// A point of the plane.
+        p: DVec3,
+        /// Another point of the plane.
+        q: DVec3,
+        /// A direction in the plane, not along `q − p`.
+        direction: DVec3,
+    },
     /// `x[axis] ≤ value` when `upper`, else `x[axis] ≥ value`.
-    Axis { axis: u8, upper: bool, value: f64 },
+    Axis {
+        /// 0, 1 or 2 for x, y, z.
+        axis: u8,
+        /// Whether `value` bounds the coordinate from above.
+        upper: bool,
+        /// The bound.
+        value: f64,
+    },
 }
 
 impl Plane {

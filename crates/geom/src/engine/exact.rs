@@ -329,6 +329,7 @@ impl Polytope {
         self.dim
     }
 
+    /// Whether the polytope has no point.
     pub fn is_empty(&self) -> bool {
         self.dim < 0
     }

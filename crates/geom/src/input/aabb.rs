@@ -5,12 +5,16 @@ use glam::DVec3;
 
 /// A closed axis-aligned box; zero thickness on any axis is allowed.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Aabb {
+    /// Smallest corner.
     pub min: DVec3,
+    /// Largest corner.
     pub max: DVec3,
 }
 
 impl Aabb {
+    /// A checked box: finite corners with `min ≤ max` on every axis.
     pub fn new(min: DVec3, max: DVec3) -> Result<Aabb, GeomError> {
         let b = Aabb { min, max };
         b.validate()?;

@@ -13,9 +13,13 @@ use glam::DVec3;
 
 /// A perspective camera (or spot light) looking along `forward`.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Camera {
+    /// Eye position.
     pub eye: DVec3,
+    /// View direction (any non-zero length).
     pub forward: DVec3,
+    /// Up hint, not parallel to `forward`.
     pub up: DVec3,
     /// Full vertical field of view, radians, in (0, π).
     pub fovy: f64,
@@ -23,14 +27,18 @@ pub struct Camera {
     pub aspect: f64,
     /// Distances along `forward`, 0 < near < far.
     pub near: f64,
+    /// Far plane distance along `forward`, greater than `near`.
     pub far: f64,
 }
 
 /// Orthonormal camera basis: forward, right, up.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CameraBasis {
+    /// Unit view direction.
     pub forward: DVec3,
+    /// Unit right, `forward × up`.
     pub right: DVec3,
+    /// Unit up, perpendicular to `forward`.
     pub up: DVec3,
 }
 

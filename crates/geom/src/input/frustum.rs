@@ -29,6 +29,10 @@ pub(crate) const MAX_FRUSTUM_FACES: usize = 12;
 /// coplanar (the usual case after rounding) are split along the diagonal
 /// that keeps the hull convex, decided exactly.
 #[derive(Clone, Copy, Debug, PartialEq)]
+// NOTE: serialized as its eight corners and rebuilt with `from_corners`
+// on the way in, so a deserialized frustum is checked like any other.
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(try_from = "[DVec3; 8]", into = "[DVec3; 8]"))]
 pub struct Frustum {
     corners: [DVec3; 8],
     /// Face polygons as corner indices, CCW from outside; `faces_len[i]` is 3 or 4.
@@ -55,6 +59,7 @@ pub struct Frustum {
 /// A light as a homogeneous point: finite, or at infinity in a direction.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Apex {
+    /// A finite point.
     Finite(DVec3),
     /// The point at infinity reached by travelling along this direction.
     Infinite(DVec3),
@@ -110,6 +115,7 @@ impl PlaneSet {
         self.planes[self.len] = p;
         self.len += 1;
     }
+    /// The planes, in insertion order.
     pub fn as_slice(&self) -> &[Plane] {
         &self.planes[..self.len]
     }
@@ -338,6 +344,7 @@ impl Frustum {
         &self.faces[i][..self.faces_len[i] as usize]
     }
 
+    /// The eight corners: near face, then far face.
     pub fn corners(&self) -> &[DVec3; 8] {
         &self.corners
     }
@@ -503,6 +510,21 @@ impl Frustum {
             let f = self.face(i);
             orient(self.corners[f[0] as usize], self.corners[f[1] as usize], self.corners[f[2] as usize], x) <= 0
         })
+    }
+}
+
+#[cfg(feature = "serde")]
+impl TryFrom<[DVec3; 8]> for Frustum {
+    type Error = GeomError;
+    fn try_from(corners: [DVec3; 8]) -> Result<Frustum, GeomError> {
+        Frustum::from_corners(corners)
+    }
+}
+
+#[cfg(feature = "serde")]
+impl From<Frustum> for [DVec3; 8] {
+    fn from(f: Frustum) -> [DVec3; 8] {
+        f.corners
     }
 }
 

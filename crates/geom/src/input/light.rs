@@ -11,28 +11,43 @@ use glam::DVec3;
 // pay its size.
 #[allow(clippy::large_enum_variant)]
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Light {
     /// Light travelling along `direction` (from the light into the scene).
-    Directional { direction: DVec3 },
+    Directional {
+        /// The travel direction, any non-zero length.
+        direction: DVec3,
+    },
     /// An omnidirectional point light.
-    Point { position: DVec3 },
+    Point {
+        /// The light's position.
+        position: DVec3,
+    },
     /// A spot light: its apex and the frustum it lights.
-    Spot { position: DVec3, frustum: Frustum },
+    Spot {
+        /// The apex.
+        position: DVec3,
+        /// The lit frustum, with its apex at `position`.
+        frustum: Frustum,
+    },
 }
 
 impl Light {
+    /// A checked directional light (finite, non-zero direction).
     pub fn directional(direction: DVec3) -> Result<Light, GeomError> {
         let l = Light::Directional { direction };
         l.validate()?;
         Ok(l)
     }
 
+    /// A checked point light (finite position).
     pub fn point(position: DVec3) -> Result<Light, GeomError> {
         let l = Light::Point { position };
         l.validate()?;
         Ok(l)
     }
 
+    /// A checked spot light (finite apex).
     pub fn spot(position: DVec3, frustum: Frustum) -> Result<Light, GeomError> {
         let l = Light::Spot { position, frustum };
         l.validate()?;

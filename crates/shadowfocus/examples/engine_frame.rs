@@ -1,15 +1,15 @@
 //! How an engine uses Shadowfocus each frame: four stable cascades for the
 //! sun, one PSM map for a spot light, and per-map caster lists.
 //!
-//! `cargo run --release -p shadowfocus-focus --example engine_frame`
+//! `cargo run --release -p shadowfocus --example engine_frame`
 //!
 //! Everything a frame needs is allocated once, before the loop: the results
 //! and the caster index buffers are reused, so the per-frame work does not
 //! touch the heap (except the exact geometry's rare big-integer fallback).
 
 use glam::DVec3;
-use shadowfocus_focus::{cull_casters, fit, FocusResult, FocusSettings, Method, SplitScheme, SplitSettings};
-use shadowfocus_geom::{Aabb, Camera, Frustum, Light};
+use shadowfocus::focus::{cull_casters, fit, ClipConvention, FocusResult, FocusSettings, Method, SplitScheme, SplitSettings};
+use shadowfocus::geom::{Aabb, Camera, Frustum, Light};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     // The level: a 200 m square with a grid of crates (the shadow casters).
@@ -41,9 +41,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         splits: SplitSettings { count: 4, scheme: SplitScheme::Practical { lambda: 0.7 }, ..SplitSettings::default() },
         resolution: 2048,
         stable: true,
+        // The engine's API: here Vulkan with reversed-Z.
+        clip: ClipConvention::VULKAN.reversed(),
         ..FocusSettings::default()
     };
-    let spot_settings = FocusSettings { method: Method::Psm, resolution: 1024, ..FocusSettings::default() };
+    let spot_settings = FocusSettings { method: Method::Psm, resolution: 1024, clip: cascades.clip, ..FocusSettings::default() };
     cascades.validate()?;
     spot_settings.validate()?;
 
@@ -76,9 +78,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     continue;
                 }
                 let n = cull_casters(map, &casters, &mut caster_ids)?;
-                // An engine uploads `map.fit.clip_from_world_f32` (world → clip, z in [0, 1])
-                // and sets its depth compare from `map.fit.depth_test`, then draws
-                // the casters `caster_ids[..n]` into this map.
+                // An engine uploads `map.fit.clip_from_world_f32` (world → clip in its
+                // convention) and sets its depth compare from `map.fit.depth_test`, then
+                // draws the casters `caster_ids[..n]` into this map; its lighting shader
+                // samples the map through `map.fit.uv_from_world_f32()`.
+                let _lookup: [f32; 16] = map.fit.uv_from_world_f32().to_cols_array();
                 println!(
                     "  {name} split {} [{:.1}, {:.1}] m: depth test {}, texel {:.3}–{:.3} m, {n}/{} casters",
                     map.split,
