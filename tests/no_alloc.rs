@@ -51,9 +51,9 @@ fn fitting_a_frame_does_not_allocate() {
         for light in &lights {
             for method in [Method::Uniform, Method::Psm, Method::Lispsm, Method::Tsm] {
                 for count in [1, 4] {
-                    for stable in [false, true] {
-                        let s =
-                            FocusSettings { method, stable, splits: SplitSettings { count, ..Default::default() }, ..Default::default() };
+                    for (stable, depth_clamp) in [(false, false), (true, false), (false, true)] {
+                        let splits = SplitSettings { count, ..Default::default() };
+                        let s = FocusSettings { method, stable, depth_clamp, splits, ..Default::default() };
                         let a0 = allocations();
                         fit(&cam, light, &scene, &s, out).unwrap();
                         let a1 = allocations();
@@ -73,13 +73,13 @@ fn fitting_a_frame_does_not_allocate() {
                         assert_eq!(a2, a1, "culling allocated");
                         assert!(
                             a1 == a0 || exact_engine > 0,
-                            "{light:?} {method:?} {count} {stable}: {} allocations on the float path",
+                            "{light:?} {method:?} {count} {stable} {depth_clamp}: {} allocations on the float path",
                             a1 - a0
                         );
                         assert_eq!(a3, a2, "preparing a view allocated");
                         assert!(
                             a4 == a3 || exact_engine > 0,
-                            "{light:?} {method:?} {count} {stable}: {} allocations in fit_prepared",
+                            "{light:?} {method:?} {count} {stable} {depth_clamp}: {} allocations in fit_prepared",
                             a4 - a3
                         );
                     }

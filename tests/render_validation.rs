@@ -7,7 +7,7 @@
 use shadowfocus_cli::cli::fit::FitOptions;
 use shadowfocus_cli::cli::render::{demo_configs, fit_scene};
 use shadowfocus_cli::cli::sweep::{ADEQUATE_LIMIT, MIN_ADEQUATE_PIXELS};
-use shadowfocus_cli::focus::{ClipConvention, FocusSettings, Method};
+use shadowfocus_cli::focus::{fit, ClipConvention, FocusResult, FocusSettings, Method};
 use shadowfocus_cli::render::{builtin_scene, RenderMetrics, RenderRequest, Renderer, Scene};
 use std::sync::Mutex;
 
@@ -28,6 +28,7 @@ fn render_with(scene: &Scene, opts: &FitOptions, settings: &FocusSettings) -> Re
     req.settings.width = SIZE.0;
     req.settings.height = SIZE.1;
     req.settings.shadow_resolution = opts.resolution;
+    req.settings.depth_clamp = settings.depth_clamp;
     renderer.render(&req).unwrap().metrics
 }
 
@@ -142,4 +143,68 @@ fn reversed_z_maps_render_the_same_shadows() {
         }
     }
     assert_eq!(compared, shadowfocus_cli::render::BUILTIN_SCENES.len() * 5);
+}
+
+#[test]
+fn depth_clamped_maps_render_the_same_shadows_with_a_tighter_depth_range() {
+    // Every built-in scene and method with each map's depth range fitted to
+    // its receivers, rendered with depth clamping: casters toward the light
+    // are clamped rather than clipped, so the shadows stay right, and the
+    // depth range shrinks (the factor by which the receivers' depth spread
+    // grows, measured on the bodies' vertices).
+    let aspect = SIZE.0 as f64 / SIZE.1 as f64;
+    let (mut factors, mut worse, mut emptied) = (Vec::new(), Vec::new(), 0);
+    for name in shadowfocus_cli::render::BUILTIN_SCENES {
+        let s = scene(name);
+        let (camera, light, bounds) = shadowfocus_cli::cli::render::scene_inputs(&s, aspect).unwrap();
+        for (label, opts) in demo_configs(RES) {
+            let plain = opts.settings().unwrap();
+            let clamped = FocusSettings { depth_clamp: true, ..plain };
+            let (mut a, mut b) = (FocusResult::new(), FocusResult::new());
+            fit(&camera, &light, &bounds, &plain, &mut a).unwrap();
+            fit(&camera, &light, &bounds, &clamped, &mut b).unwrap();
+            for (x, y) in a.maps().iter().zip(b.maps()).filter(|(x, _)| x.is_active()) {
+                if !y.is_active() {
+                    emptied += 1; // no receivers: nothing to render
+                    continue;
+                }
+                assert!(y.fit.depth_clamp, "{name}/{label}: an active map was not clamped");
+                let z = |m: &glam::DMat4, p: &glam::DVec3| {
+                    let q = *m * p.extend(1.0);
+                    q.z / q.w
+                };
+                let (lo, hi) = x.body().vertices().iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                    (lo.min(z(&x.fit.clip_from_world, p)), hi.max(z(&x.fit.clip_from_world, p)))
+                });
+                let (lo2, hi2) = x.body().vertices().iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                    (lo.min(z(&y.fit.clip_from_world, p)), hi.max(z(&y.fit.clip_from_world, p)))
+                });
+                factors.push((hi2 - lo2) / (hi - lo));
+            }
+            let m = render_with(&s, &opts, &plain);
+            let c = render_with(&s, &opts, &clamped);
+            assert!(c.depth_clamp, "the renderer did not clamp (adapter {:?} lacks DEPTH_CLIP_CONTROL)", c.adapter);
+            let (m, c) = (m.mismatch.unwrap(), c.mismatch.unwrap());
+            eprintln!(
+                "{name}/{label}: mismatched {} unclamped, {} clamped; off edges {} and {}",
+                m.mismatched, c.mismatched, m.off_edge_mismatched, c.off_edge_mismatched
+            );
+            worse.push(c.off_edge_mismatched as f64 - m.off_edge_mismatched as f64);
+            assert!(
+                c.off_edge_mismatched <= m.off_edge_mismatched + m.off_edge_pixels / 1000,
+                "{name}/{label}: clamped {c:?}, unclamped {m:?}"
+            );
+        }
+    }
+    factors.sort_by(f64::total_cmp);
+    eprintln!(
+        "depth range of H over the receivers' range, {} maps ({emptied} emptied: no receivers): min {:.2}, median {:.2}, max {:.2}; off-edge mismatch change max {}",
+        factors.len(),
+        factors[0],
+        factors[factors.len() / 2],
+        factors[factors.len() - 1],
+        worse.iter().fold(f64::NEG_INFINITY, |a, b| a.max(*b))
+    );
+    assert!(factors.iter().all(|f| *f >= 1.0 - 1e-9), "clamping widened a depth range");
+    assert!(factors[factors.len() / 2] > 1.0, "clamping tightened no depth range");
 }

@@ -327,6 +327,12 @@ typedef struct SfSettings {
    Origin of the positions `clip_from_world_f32` is applied to (default 0, 0, 0).
    */
   double f32_origin[3];
+  /*
+   Nonzero: fit each map's depth range to its receivers (the visible,
+   lit part of its body) and render with depth clamping; maps so fitted
+   have `depth_clamp` set. Default 0.
+   */
+  int depth_clamp;
 } SfSettings;
 
 /*
@@ -519,6 +525,12 @@ typedef struct SfMap {
    Number of vertices of the map's body (what `sf_body` writes).
    */
   uint32_t body_vertex_count;
+  /*
+   Nonzero: the depth range holds only the receivers; render with depth
+   clamping (wgpu unclipped_depth, Vulkan depthClamp, D3D
+   DepthClipEnable = FALSE), or casters toward the light are lost.
+   */
+  int depth_clamp;
 } SfMap;
 
 #ifdef __cplusplus

@@ -97,6 +97,7 @@ pub fn settings(s: &SfSettings) -> Result<FocusSettings, Failure> {
         warp_guard: s.warp_guard != 0,
         f32_origin: v3(s.f32_origin),
         clip: clip(s),
+        depth_clamp: s.depth_clamp != 0,
     })
 }
 
@@ -156,6 +157,7 @@ pub fn default_settings() -> SfSettings {
         orientation: (d.orientation == MapOrientation::ViewAligned).into(),
         warp_guard: d.warp_guard.into(),
         f32_origin: d.f32_origin.to_array(),
+        depth_clamp: d.depth_clamp.into(),
     }
 }
 
@@ -189,5 +191,6 @@ pub fn map(m: &ShadowMap) -> SfMap {
         notes: m.notes().0,
         skipped: m.skipped().0,
         body_vertex_count: m.body().vertices().len() as u32,
+        depth_clamp: f.depth_clamp.into(),
     }
 }

@@ -261,6 +261,10 @@ pub struct SfSettings {
     pub warp_guard: c_int,
     /// Origin of the positions `clip_from_world_f32` is applied to (default 0, 0, 0).
     pub f32_origin: [f64; 3],
+    /// Nonzero: fit each map's depth range to its receivers (the visible,
+    /// lit part of its body) and render with depth clamping; maps so fitted
+    /// have `depth_clamp` set. Default 0.
+    pub depth_clamp: c_int,
 }
 
 /// One fitted shadow map.
@@ -322,4 +326,8 @@ pub struct SfMap {
     pub skipped: u32,
     /// Number of vertices of the map's body (what `sf_body` writes).
     pub body_vertex_count: u32,
+    /// Nonzero: the depth range holds only the receivers; render with depth
+    /// clamping (wgpu unclipped_depth, Vulkan depthClamp, D3D
+    /// DepthClipEnable = FALSE), or casters toward the light are lost.
+    pub depth_clamp: c_int,
 }

@@ -1,5 +1,6 @@
 //! One frame: splits, bodies, maps, plan.
 
+use crate::clamp::clamp_depths;
 use crate::clip::ClipConvention;
 use crate::cone::turn_into_cone;
 use crate::error::FocusError;
@@ -197,6 +198,9 @@ pub fn fit_prepared(view: &PreparedView, light: &Light, scene: &Aabb, out: &mut 
         let sub = Camera { near: range[0], far: range[1], ..view.camera };
         fit_split(out, &SplitView { camera: &sub, basis: view.basis, settings: &view.settings }, frustum, light, &scene, i)?;
     }
+    if view.settings.depth_clamp {
+        clamp_depths(out, &view.frusta, &scene, &view.settings)?;
+    }
     plan(out, &view.settings, light, &scene);
     Ok(())
 }
@@ -385,6 +389,7 @@ fn map_fit(sv: &SplitView, light: &Light, f: &Fitted) -> MapFit {
         warp_near: f.warp_near,
         psm_shift: f.psm_shift,
         clip: sv.settings.clip,
+        depth_clamp: false,
     }
 }
 
@@ -405,7 +410,7 @@ fn depth_test(inverted: bool, clip: ClipConvention) -> DepthTest {
 ///
 /// NOTE: with the origin at zero the product with the identity is skipped:
 /// it is exact, up to the sign of zero entries.
-fn f32_matrix(m: &DMat4, origin: DVec3) -> Mat4 {
+pub(crate) fn f32_matrix(m: &DMat4, origin: DVec3) -> Mat4 {
     if origin == DVec3::ZERO {
         m.as_mat4()
     } else {
@@ -419,6 +424,12 @@ fn f32_matrix(m: &DMat4, origin: DVec3) -> Mat4 {
 /// point light must not lie in the body (pass the spot that truncates it).
 pub fn fit_map(camera: &Camera, light: &Light, body: &Body, settings: &FocusSettings) -> Result<MapFit, FocusError> {
     settings.validate()?;
+    if settings.depth_clamp {
+        return Err(FocusError::InvalidSettings {
+            what: "depth_clamp",
+            reason: "fit_map has no scene box to find the receivers in (fit, fit_prepared and fit_frustum have)",
+        });
+    }
     let basis = camera.basis()?;
     if body.is_empty() {
         return Ok(MapFit::empty(settings.method, settings.clip));

@@ -26,7 +26,10 @@
 //! `w > 0, −w ≤ x, y ≤ w` and `0 ≤ z ≤ w` (resp. `−w ≤ z ≤ w`), in f64 and
 //! also with [`MapFit::clip_from_world_f32`] evaluated in f32. Engines that
 //! keep view and projection apart use [`ShadowMap::light_view`] and
-//! [`ShadowMap::light_projection`]. Split ranges are view depths along the
+//! [`ShadowMap::light_projection`]; those that cull in their own BVH use
+//! [`caster_planes`]. With [`FocusSettings::depth_clamp`] the depth range
+//! holds only each map's receivers, and the map is rendered with depth
+//! clamping ([`MapFit::depth_clamp`]). Split ranges are view depths along the
 //! camera's forward axis; [`FocusResult::split_clip_depths`] gives the same
 //! planes as depths of the right-handed camera projection in the same
 //! convention (by default glam's `dcamera::rh::proj::directx::perspective`:
@@ -87,6 +90,7 @@
 #![deny(missing_docs)]
 
 mod camera;
+mod clamp;
 pub mod clip;
 mod cone;
 mod cull;

@@ -126,6 +126,11 @@ pub struct MapFit {
     pub psm_shift: f64,
     /// The clip convention the matrices are written in.
     pub clip: ClipConvention,
+    /// The depth range holds only the receivers (visible, lit points; see
+    /// [`crate::FocusSettings::depth_clamp`]): render the map with depth
+    /// clamping (wgpu `unclipped_depth`, Vulkan `depthClamp`, Direct3D
+    /// `DepthClipEnable = false`), or casters toward the light are lost.
+    pub depth_clamp: bool,
 }
 
 impl MapFit {
@@ -143,6 +148,7 @@ impl MapFit {
             warp_near: f64::INFINITY,
             psm_shift: 0.0,
             clip,
+            depth_clamp: false,
         }
     }
 
@@ -369,6 +375,7 @@ pub struct FocusResult {
     pub notes: Notes,
     /// The body engines' work space, shared by every map.
     focuser: Focuser,
+    scratch: Body,
 }
 
 impl Default for FocusResult {
@@ -400,6 +407,7 @@ impl FocusResult {
             skipped: Skipped::default(),
             notes: Notes::default(),
             focuser: Focuser::new(),
+            scratch: Body::new(),
         }
     }
 
@@ -443,6 +451,11 @@ impl FocusResult {
         for i in 0..=m {
             self.split_clip[i] = clip.camera_depth(depths[0], depths[m], depths[i]);
         }
+    }
+
+    /// The maps, the body engine and a scratch body (for the receivers).
+    pub(crate) fn maps_and_work(&mut self) -> (&mut [ShadowMap], &mut Focuser, &mut Body) {
+        (&mut self.maps[..self.len], &mut self.focuser, &mut self.scratch)
     }
 
     /// The next map slot, and the work space to compute its body with.

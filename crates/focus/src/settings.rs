@@ -243,6 +243,12 @@ pub struct FocusSettings {
     /// It decides each map's depth row, its depth test and its lookup
     /// matrix; which light rays a map covers does not depend on it.
     pub clip: ClipConvention,
+    /// Fit each map's depth range to its receivers only (the visible, lit
+    /// part `V_i ∩ S ∩ L` of its body) and render with depth clamping
+    /// ("pancaking"): casters toward the light are clamped to the range's
+    /// near end instead of widening it. Maps fitted so say
+    /// [`crate::MapFit::depth_clamp`]. Off by default.
+    pub depth_clamp: bool,
 }
 
 impl Default for FocusSettings {
@@ -261,6 +267,7 @@ impl Default for FocusSettings {
             warp_guard: true,
             f32_origin: glam::DVec3::ZERO,
             clip: ClipConvention::WGPU,
+            depth_clamp: false,
         }
     }
 }

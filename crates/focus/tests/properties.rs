@@ -132,6 +132,22 @@ fn check_frame(cam: &Camera, light: &Light, scene: &Aabb, s: &FocusSettings, out
     Ok(())
 }
 
+/// How far the image `(x/w, y/w)` of `y` can lie from the image of the
+/// same light ray under the matrix with the `x`, `y`, `w` rows moved exactly
+/// through the light `l`: writing `row = row' + δ e` with `row'·l = 0` and
+/// `e·l = 1` (`e = (0, 0, 0, 1/l_w)`, or `(l/|l|², 0)` at infinity), the
+/// image moves by at most `(|δx| + |ξ||δw|)·|e·y|/w` in `x`, likewise in `y`.
+fn ray_drift(m: &glam::DMat4, l: DVec4, y: DVec3) -> f64 {
+    let q = *m * y.extend(1.0);
+    let delta = |r: usize| {
+        let row = m.row(r);
+        row.dot(l).abs() + 4.0 * f64::EPSILON * row.abs().dot(l.abs())
+    };
+    let e_y = if l.w != 0.0 { 1.0 / l.w.abs() } else { l.truncate().length() * y.length() / l.truncate().length_squared() };
+    let (dx, dy, dw) = (delta(0), delta(1), delta(3));
+    ((dx + (q.x / q.w).abs() * dw).max(dy + (q.y / q.w).abs() * dw)) * e_y / q.w
+}
+
 /// 128 cases per property in the test suite; `PROPTEST_CASES` overrides it
 /// for longer runs.
 fn config() -> ProptestConfig {
@@ -174,16 +190,28 @@ proptest! {
                 if !(s0.is_finite() && s1.is_finite() && s1 - s0 > 1e-6 * scale) {
                     continue;
                 }
-                let near_light = p + t * (s0 + 0.01 * (s1 - s0));
-                let far_light = p + t * (s1 - 0.01 * (s1 - s0));
+                let (s_near, s_far) = (s0 + 0.01 * (s1 - s0), s1 - 0.01 * (s1 - s0));
+                let near_light = p + t * s_near;
+                let far_light = p + t * s_far;
                 let (qa, qb) = (map.fit.clip_from_world * near_light.extend(1.0), map.fit.clip_from_world * far_light.extend(1.0));
                 prop_assert!(qa.w > 0.0 && qb.w > 0.0);
                 let (xa, ya, za) = (qa.x / qa.w, qa.y / qa.w, qa.z / qa.w);
                 let (xb, yb, zb) = (qb.x / qb.w, qb.y / qb.w, qb.z / qb.w);
                 // The points are rounded: compare at the resolution their
-                // rounding leaves (coarse only far from the origin).
-                let res = ndc_sensitivity(&map.fit.clip_from_world, near_light) + ndc_sensitivity(&map.fit.clip_from_world, far_light);
-                let tol = 1e-7 + 2.0 * res.x.max(res.y);
+                // rounding leaves (coarse only far from the origin). So is the
+                // ray's direction: `p − l` loses (|p| + |l|)·ε, which moves a
+                // point |s| along it by |s|·(|p| + |l|)/|p − l| times that.
+                let lp = light_point(&map.light);
+                let dir_err = if lp.w == 0.0 { 0.0 } else { (p.abs().max_element() + lp.truncate().abs().max_element()) / (p - lp.truncate()).length() };
+                let grow = |q: DVec3, s: f64| 1.0 + s.abs() * dir_err / q.abs().max_element().max(f64::MIN_POSITIVE);
+                let m = &map.fit.clip_from_world;
+                let res = ndc_sensitivity(m, near_light) * grow(near_light, s_near) + ndc_sensitivity(m, far_light) * grow(far_light, s_far);
+                // And the map's rows pass through the light only to rounding:
+                // with δ = row·L (bounded with its own rounding) each point's
+                // image moves by at most (|δx| + |ξ||δw|)/w, times |l·y|/|l|²
+                // for a light at infinity (see `ray_drift`).
+                let drift = ray_drift(m, lp, near_light) + ray_drift(m, lp, far_light);
+                let tol = 1e-7 + 2.0 * res.x.max(res.y) + drift;
                 prop_assert!((xa - xb).abs() < tol && (ya - yb).abs() < tol, "not one texel: ({xa}, {ya}) vs ({xb}, {yb}), resolution {tol}");
                 if (za - zb).abs() <= 2.0 * res.z {
                     continue;
@@ -264,6 +292,66 @@ proptest! {
             for p in y.body().vertices() {
                 prop_assert!((view * p.extend(1.0)).z <= 1e-9 * scale, "body vertex {p} behind the light's view");
             }
+        }
+    }
+
+    /// Depth clamping changes only the depth row, keeping its orientation
+    /// (or empties a map without receivers), and the clamped range still
+    /// holds every visible, lit point (the receivers) in the full clip
+    /// volume; every body vertex keeps `x`, `y` and `w` inside.
+    #[test]
+    fn depth_clamp_holds_the_receivers((cam, scene, light) in frame_strategy(), s in settings_strategy()) {
+        let (mut a, mut b) = (FocusResult::new(), FocusResult::new());
+        fit(&cam, &light, &scene, &s, &mut a).map_err(|e| TestCaseError::fail(format!("{e}")))?;
+        fit(&cam, &light, &scene, &FocusSettings { depth_clamp: true, ..s }, &mut b).map_err(|e| TestCaseError::fail(format!("{e}")))?;
+        prop_assert_eq!(a.maps().len(), b.maps().len());
+        for (x, y) in a.maps().iter().zip(b.maps()) {
+            prop_assert!(!x.fit.depth_clamp);
+            // A map may only become empty (it has no receivers).
+            prop_assert!(x.is_active() || !y.is_active());
+            if !y.is_active() {
+                continue;
+            }
+            prop_assert_eq!((x.fit.depth_test, x.fit.method), (y.fit.depth_test, y.fit.method));
+            let (mx, my) = (&x.fit.clip_from_world, &y.fit.clip_from_world);
+            for r in [0, 1, 3] {
+                prop_assert_eq!(mx.row(r).to_array().map(f64::to_bits), my.row(r).to_array().map(f64::to_bits), "row {}", r);
+            }
+            let ndc_z = |m: &glam::DMat4, p: DVec3| { let q = *m * p.extend(1.0); q.z / q.w };
+            let verts = y.body().vertices();
+            for p in verts {
+                let q = *my * p.extend(1.0);
+                prop_assert!(q.w > 0.0 && q.x.abs() <= q.w && q.y.abs() <= q.w, "body vertex {p} outside x, y");
+            }
+            // The same depth order: the new depth is an increasing affine
+            // function of the old one (compare the extreme vertices).
+            if let (Some(lo), Some(hi)) = (
+                verts.iter().min_by(|p, q| ndc_z(mx, **p).total_cmp(&ndc_z(mx, **q))),
+                verts.iter().max_by(|p, q| ndc_z(mx, **p).total_cmp(&ndc_z(mx, **q))),
+            ) {
+                let (d_old, d_new) = (ndc_z(mx, *hi) - ndc_z(mx, *lo), ndc_z(my, *hi) - ndc_z(my, *lo));
+                if d_old > 1e-6 {
+                    prop_assert!(d_new > 0.0, "depth order reversed: {d_old} → {d_new}");
+                }
+            }
+        }
+        // Visible, lit points lie in their split's clamped maps, depth included.
+        let d = b.split_depths();
+        let basis = cam.basis().unwrap();
+        let t = (0.5 * cam.fovy).tan();
+        for k in 0..64 {
+            let fx = ((k * 37) % 64) as f64 / 63.0 * 2.0 - 1.0;
+            let fy = ((k * 11) % 64) as f64 / 63.0 * 2.0 - 1.0;
+            let z = (cam.near + (cam.far - cam.near) * (k as f64 / 63.0)).clamp(cam.near, cam.far);
+            let p = cam.eye + basis.forward * z + basis.right * (fx * z * t * cam.aspect * 0.999) + basis.up * (fy * z * t * 0.999);
+            let lit = match light { Light::Spot { frustum, .. } => frustum.contains(p), _ => true };
+            if !scene.contains(p) || !lit {
+                continue;
+            }
+            let i = (0..s.splits.count).find(|&i| d[i] <= z && z <= d[i + 1]).unwrap();
+            let maps: Vec<&ShadowMap> = b.maps().iter().filter(|m| m.split == i && m.is_active()).collect();
+            let near_light = match light { Light::Point { position } => maps.iter().any(|m| (p - position).length() <= m.light_near), _ => false };
+            prop_assert!(near_light || maps.iter().any(|m| m.fit.depth_clamp && inside_map_f64(&m.fit, p)), "receiver {p} at depth {z} outside split {i}'s clamped maps");
         }
     }
 

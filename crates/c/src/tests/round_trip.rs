@@ -41,16 +41,17 @@ fn assert_same(c: &SfMap, r: &ShadowMap, what: &str) {
     assert_eq!(bits(&[c.warp_near, c.psm_shift, c.light_near]), bits(&[r.fit.warp_near, r.fit.psm_shift, r.light_near]), "{what}: scalars");
     assert_eq!((c.notes, c.skipped), (r.notes().0, r.skipped().0), "{what}: notes and skipped");
     assert_eq!(c.body_vertex_count as usize, r.body().vertices().len(), "{what}: body size");
+    assert_eq!(c.depth_clamp != 0, r.fit.depth_clamp, "{what}: depth clamp");
 }
 
-/// Every combination of the four clip fields gives the maps of `fit` with
-/// that `ClipConvention`, bit for bit, and its depth range holds the bodies.
+/// Every combination of the four clip fields (half of them with depth
+/// clamping) gives the maps of `fit` with those settings, bit for bit.
 #[test]
 fn every_clip_convention_gives_the_maps_of_fit() {
     let ctx = Ctx::new();
     let mut out = FocusResult::new();
     let mut maps = vec![canary_map(); SF_MAX_MAPS as usize];
-    let mut greater = 0;
+    let (mut greater, mut clamped) = (0, 0);
     for bits4 in 0..16 {
         let flag = |b: u32| c_int::from(bits4 & (1 << b) != 0);
         let clip = ClipConvention {
@@ -62,7 +63,9 @@ fn every_clip_convention_gives_the_maps_of_fit() {
         for method in METHODS {
             let mut s = settings(method, 4);
             (s.depth_zero_to_one, s.reversed_z, s.uv_origin_top_left, s.clip_y_down) = (flag(0), flag(1), flag(2), flag(3));
-            let rs = FocusSettings { clip, ..rust_settings(method, 4) };
+            // Half of the conventions also with the depth range fitted to the receivers.
+            s.depth_clamp = c_int::from(bits4 % 2 == 1);
+            let rs = FocusSettings { clip, depth_clamp: bits4 % 2 == 1, ..rust_settings(method, 4) };
             for light in lights() {
                 let what = format!("{clip:?}, {method:?}, light kind {}", light.kind);
                 fit(&rust_camera(&camera(37)), &rust_light(&light), &rust_scene(), &rs, &mut out).unwrap();
@@ -71,11 +74,13 @@ fn every_clip_convention_gives_the_maps_of_fit() {
                 for (i, (c, r)) in maps.iter().zip(out.maps()).enumerate() {
                     assert_same(c, r, &format!("{what}, map {i}"));
                     greater += usize::from(c.active != 0 && c.depth_greater != 0);
+                    clamped += usize::from(c.depth_clamp != 0);
                 }
             }
         }
     }
     assert!(greater > 0, "reversed-Z gave no map the greater test");
+    assert!(clamped > 0, "no map was fitted for depth clamping");
 }
 
 /// sf_fit against fit for every method, 1 and 4 splits, each light kind,
