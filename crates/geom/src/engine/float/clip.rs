@@ -50,8 +50,8 @@ impl CertifiedClipper {
         // the sums (each under u of its magnitude).
         let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
         let (mut r_max, mut x_max) = (DVec3::ZERO, DVec3::ZERO);
-        for v in 0..self.n_verts {
-            let (x, r) = (self.pos[v], self.rad[v]);
+        for v in 0..self.verts.len {
+            let (x, r) = (self.verts.pos[v], self.verts.rad[v]);
             lo = lo.min(x);
             hi = hi.max(x);
             r_max = r_max.max(r);
@@ -96,7 +96,7 @@ impl CertifiedClipper {
     /// The free slot where [`CertifiedClipper::clip`] takes its plane;
     /// `None` when every slot is used.
     pub(super) fn next_slot(&mut self) -> Option<&mut FloatPlane> {
-        self.planes.get_mut(self.n_planes)
+        self.planes.items.get_mut(self.planes.len)
     }
 
     /// Clips by the plane the caller staged in slot `n_planes` (see
@@ -105,41 +105,41 @@ impl CertifiedClipper {
     /// NOTE: staged in place rather than passed by value: a plane is ~250
     /// bytes, and two copies of it per clip were a visible share of a cut.
     pub(super) fn clip(&mut self) -> Step {
-        let k = self.n_planes;
-        let plane = &self.planes[k];
+        let k = self.planes.len;
+        let plane = &self.planes.items[k];
         let (through, axis, upper, value) = (plane.through, plane.axis, plane.upper, plane.value);
         // NOTE: the planes clipped by are faces of S and of L, whose values
         // and defining points are in `magnitude` already (`reset_to_hull`).
         debug_assert!(plane.src.magnitude() <= self.magnitude);
         let mut partners = 0;
         if two_or_more(through as u64) {
-            for (i, p) in self.planes[..k].iter().enumerate() {
+            for (i, p) in self.planes.items[..k].iter().enumerate() {
                 if two_or_more((p.through & through) as u64) && matches!(p.src, Plane::Points(_)) {
                     partners |= 1 << i;
                 }
             }
         }
-        self.partners[k] = partners;
+        self.planes.partners[k] = partners;
         // The vertices strictly inside and strictly outside, as vertex sets.
         let (mut inside, mut outside): (VertexSet, VertexSet) = (0, 0);
         if axis < 3 {
             // An axis plane has no input points and no fold partners: its
             // sign is a comparison, exact where the coordinate is.
-            self.axis_planes |= 1 << k;
+            self.planes.axis |= 1 << k;
             let a = axis as usize;
             let flip = if upper { 1.0 } else { -1.0 };
-            for v in 0..self.n_verts {
-                let s = (coord(&self.pos[v], a) - value) * flip;
-                let Some(s) = decide(s, coord(&self.rad[v], a) * SLACK + 2.0 * U * s.abs()) else { return Step::Uncertain };
-                self.sign[v] = s;
+            for v in 0..self.verts.len {
+                let s = (coord(&self.verts.pos[v], a) - value) * flip;
+                let Some(s) = decide(s, coord(&self.verts.rad[v], a) * SLACK + 2.0 * U * s.abs()) else { return Step::Uncertain };
+                self.verts.sign[v] = s;
                 inside |= u64::from(s < 0) << v;
                 outside |= u64::from(s > 0) << v;
             }
         } else {
-            let bound = self.planes[k].side_bound();
-            for v in 0..self.n_verts {
+            let bound = self.planes.items[k].side_bound();
+            for v in 0..self.verts.len {
                 let Some(s) = self.sign_at(v, k, &bound) else { return Step::Uncertain };
-                self.sign[v] = s;
+                self.verts.sign[v] = s;
                 inside |= u64::from(s < 0) << v;
                 outside |= u64::from(s > 0) << v;
             }
@@ -153,8 +153,8 @@ impl CertifiedClipper {
             // share two planes exactly when they span an edge (see `cut`). A
             // flat body's supporting plane holds an edge, a vertex, or all of
             // it (then it joins the flat planes).
-            let touching = self.sign[..self.n_verts].iter().filter(|&&s| s == 0).count();
-            if touching == self.n_verts {
+            let touching = self.verts.sign[..self.verts.len].iter().filter(|&&s| s == 0).count();
+            if touching == self.verts.len {
                 if self.dim == 3 {
                     return Step::Uncertain;
                 }
@@ -162,22 +162,22 @@ impl CertifiedClipper {
             } else if self.dim < 3 && touching > self.dim as usize {
                 return Step::Uncertain;
             }
-            if touching < 3 || touching == self.n_verts {
-                for v in 0..self.n_verts {
-                    if self.sign[v] == 0 {
-                        self.on[v] |= bit;
+            if touching < 3 || touching == self.verts.len {
+                for v in 0..self.verts.len {
+                    if self.verts.sign[v] == 0 {
+                        self.verts.on[v] |= bit;
                     }
                 }
             }
-            self.n_planes += 1;
+            self.planes.len += 1;
             return Step::Nonempty;
         }
         if inside == 0 {
             // Entirely outside (empty), or touching from outside: what is
             // left is the body's face on the plane (flat).
-            return if self.sign[..self.n_verts].contains(&0) { self.flatten(k) } else { Step::Empty };
+            return if self.verts.sign[..self.verts.len].contains(&0) { self.flatten(k) } else { Step::Empty };
         }
-        self.n_planes += 1;
+        self.planes.len += 1;
         self.cuts += 1;
         if self.cut(k, inside, outside) {
             Step::Nonempty
@@ -188,13 +188,13 @@ impl CertifiedClipper {
 
     /// Copies vertex slot `from` into slot `to`.
     pub(super) fn move_vertex(&mut self, from: usize, to: usize) {
-        self.pos[to] = self.pos[from];
-        self.rad[to] = self.rad[from];
-        self.on[to] = self.on[from];
-        self.is_point[to] = self.is_point[from];
+        self.verts.pos[to] = self.verts.pos[from];
+        self.verts.rad[to] = self.verts.rad[from];
+        self.verts.on[to] = self.verts.on[from];
+        self.verts.is_point[to] = self.verts.is_point[from];
     }
 
-    /// Keeps only the vertices on plane `k` (signs in `self.sign`, none
+    /// Keeps only the vertices on plane `k` (signs in `self.verts.sign`, none
     /// inside): the body's face on `k`, a polygon, an edge or a vertex.
     ///
     /// NOTE: every sign is exact, so these are all of the face's vertices;
@@ -204,10 +204,10 @@ impl CertifiedClipper {
     pub(super) fn flatten(&mut self, k: usize) -> Step {
         let bit = 1u64 << k;
         let mut n = 0;
-        for v in 0..self.n_verts {
-            if self.sign[v] == 0 {
+        for v in 0..self.verts.len {
+            if self.verts.sign[v] == 0 {
                 self.move_vertex(v, n);
-                self.on[n] |= bit;
+                self.verts.on[n] |= bit;
                 n += 1;
             }
         }
@@ -222,23 +222,23 @@ impl CertifiedClipper {
         if dim == 2 {
             self.support = k;
         }
-        self.n_verts = n;
+        self.verts.len = n;
         self.dim = dim;
-        self.flat = self.on[..n].iter().fold(u64::MAX, |all, &on| all & on);
-        self.n_planes += 1;
+        self.flat = self.verts.on[..n].iter().fold(u64::MAX, |all, &on| all & on);
+        self.planes.len += 1;
         Step::Nonempty
     }
 
     /// Exact sign of vertex `v` against plane `k`, if provable.
     pub(super) fn sign_at(&mut self, v: usize, k: usize, bound: &SideBound) -> Option<i8> {
-        let plane = &self.planes[k];
-        if self.is_point[v] & plane.through != 0 {
+        let plane = &self.planes.items[k];
+        if self.verts.is_point[v] & plane.through != 0 {
             return Some(0);
         }
-        let (x, r) = (self.pos[v], self.rad[v]);
+        let (x, r) = (self.verts.pos[v], self.verts.rad[v]);
         // A point on several planes that share a line with k: any of them
         // may decide (the point can lie close to one line and far from another).
-        for i in bits(self.on[v] & self.partners[k]) {
+        for i in bits(self.verts.on[v] & self.planes.partners[k]) {
             if let Some(fold) = self.fold(i, k) {
                 let (s, e) = fold.proxy.side(x, r);
                 if let Some(s) = decide(s, e) {
@@ -246,7 +246,7 @@ impl CertifiedClipper {
                 }
             }
         }
-        let plane = &self.planes[k];
+        let plane = &self.planes.items[k];
         let (s, e) = plane.general_side(x, r, bound);
         if let Some(s) = decide(s, e) {
             return Some(s);
@@ -263,37 +263,37 @@ impl CertifiedClipper {
     /// `None` when the pair has no proxy.
     pub(super) fn fold(&mut self, i: usize, k: usize) -> Option<&Fold> {
         let key = (i as u8, k as u8);
-        let slot = match self.fold_keys.iter().position(|&e| e == key) {
+        let slot = match self.planes.fold_keys.iter().position(|&e| e == key) {
             Some(slot) => slot,
             None => {
-                let f = self.make_fold(i, k, self.planes[i].through & self.planes[k].through);
-                let slot = self.fold_keys.iter().position(|e| e.0 == NONE).unwrap_or(k % FOLD_CACHE);
-                self.fold_keys[slot] = key;
-                self.fold_proxies[slot] = f;
+                let f = self.make_fold(i, k, self.planes.items[i].through & self.planes.items[k].through);
+                let slot = self.planes.fold_keys.iter().position(|e| e.0 == NONE).unwrap_or(k % FOLD_CACHE);
+                self.planes.fold_keys[slot] = key;
+                self.planes.fold_proxies[slot] = f;
                 slot
             }
         };
-        self.fold_proxies[slot].as_ref()
+        self.planes.fold_proxies[slot].as_ref()
     }
 
     pub(super) fn make_fold(&self, i: usize, k: usize, common: u32) -> Option<Fold> {
         let mut ids = bits(common as u64);
         let (a, c) = (self.points[ids.next()?], self.points[ids.next()?]);
-        let Plane::Points(defining) = self.planes[i].src else { return None };
+        let Plane::Points(defining) = self.planes.items[i].src else { return None };
         if a == c {
             return None;
         }
         // A defining point of plane i off the common line.
         let y = *defining.iter().find(|&&p| p != a && p != c)?;
-        let proxy = line_proxy(&self.planes[i], a, c);
+        let proxy = line_proxy(&self.planes.items[i], a, c);
         let (s, err) = proxy.side(y, DVec3::ZERO);
         let proxy_y = decide(s, err).filter(|&s| s != 0)?;
         // NOTE: across a crease `y` lies within rounding of plane k, where
         // only exact arithmetic decides; the frustum's fold test already did.
-        let (ti, tk) = (self.planes[i].through, self.planes[k].through);
+        let (ti, tk) = (self.planes.items[i].through, self.planes.items[k].through);
         let creased = creased_pair(ti, tk) || creased_pair(ti >> LIGHT_FRUSTUM_SHIFT, tk >> LIGHT_FRUSTUM_SHIFT);
-        let k_y = if creased { -1 } else { point_side(&self.planes[k].src, y) };
-        debug_assert_eq!(k_y, point_side(&self.planes[k].src, y));
+        let k_y = if creased { -1 } else { point_side(&self.planes.items[k].src, y) };
+        debug_assert_eq!(k_y, point_side(&self.planes.items[k].src, y));
         if k_y == 0 {
             return None;
         }
@@ -303,8 +303,8 @@ impl CertifiedClipper {
     /// Side values of the two ends of edge `u`–`w` against plane `k`, on
     /// one scale (the fold proxy when the edge lies in a folding plane).
     pub(super) fn edge_sides(&mut self, u: usize, w: usize, k: usize) -> [(f64, f64); 2] {
-        let ((xu, ru), (xw, rw)) = ((self.pos[u], self.rad[u]), (self.pos[w], self.rad[w]));
-        let common = self.on[u] & self.on[w] & self.partners[k];
+        let ((xu, ru), (xw, rw)) = ((self.verts.pos[u], self.verts.rad[u]), (self.verts.pos[w], self.verts.rad[w]));
+        let common = self.verts.on[u] & self.verts.on[w] & self.planes.partners[k];
         if common != 0 {
             if let Some(f) = self.fold(common.trailing_zeros() as usize, k) {
                 let side = |x, r| {
@@ -314,33 +314,33 @@ impl CertifiedClipper {
                 return [side(xu, ru), side(xw, rw)];
             }
         }
-        let p = &self.planes[k];
+        let p = &self.planes.items[k];
         [p.side(xu, ru), p.side(xw, rw)]
     }
 
     /// Makes the vertex where edge `u` (inside) – `w` (outside) crosses
     /// plane `k`; false when its error cannot be bounded.
     pub(super) fn crossing(&mut self, u: usize, w: usize, k: usize, out: usize) -> bool {
-        let common = self.on[u] & self.on[w];
+        let common = self.verts.on[u] & self.verts.on[w];
         let on = common | 1 << k;
-        self.on[out] = on;
+        self.verts.on[out] = on;
         // Exact incidences: if every plane through the vertex passes through
         // one input point, the vertex is that point.
         // NOTE: an axis plane (a face of S) passes through no input point, so
         // a cut by one skips the loop.
-        let through_k = self.planes[k].through;
-        let pts = if through_k == 0 { 0 } else { bits(common).fold(through_k, |pts, i| pts & self.planes[i].through) };
+        let through_k = self.planes.items[k].through;
+        let pts = if through_k == 0 { 0 } else { bits(common).fold(through_k, |pts, i| pts & self.planes.items[i].through) };
         if pts != 0 {
-            self.pos[out] = self.points[pts.trailing_zeros() as usize];
-            self.rad[out] = DVec3::ZERO;
-            self.is_point[out] = pts;
+            self.verts.pos[out] = self.points[pts.trailing_zeros() as usize];
+            self.verts.rad[out] = DVec3::ZERO;
+            self.verts.is_point[out] = pts;
             return true;
         }
         // Both ends exact input points (an edge of the hull as built): the
         // edge is the segment between them, no need to find the line's
         // defining points through the planes.
-        if self.is_point[u] != 0 && self.is_point[w] != 0 {
-            if let Some((x, rad)) = line_crossing(self.pos[u], self.pos[w] - self.pos[u], true, &self.planes[k]) {
+        if self.verts.is_point[u] != 0 && self.verts.is_point[w] != 0 {
+            if let Some((x, rad)) = line_crossing(self.verts.pos[u], self.verts.pos[w] - self.verts.pos[u], true, &self.planes.items[k]) {
                 self.store(out, x, rad);
                 return true;
             }
@@ -364,12 +364,12 @@ impl CertifiedClipper {
         let (a, b) = ((-su).max(0.0), sw.max(0.0));
         let t = if a + b > 0.0 { a / (a + b) } else { 0.5 };
         let (from, to, t) = if t <= 0.5 { (u, w, t) } else { (w, u, 1.0 - t) };
-        let guess = self.pos[from] + (self.pos[to] - self.pos[from]) * t;
+        let guess = self.verts.pos[from] + (self.verts.pos[to] - self.verts.pos[from]) * t;
         // The edge lies on two planes of `common`; with `k` they define the
         // vertex.
         let mut edge = bits(common);
         let (Some(i), Some(j)) = (edge.next(), edge.next()) else { return false };
-        let mut planes = [&self.planes[i], &self.planes[j], &self.planes[k]];
+        let mut planes = [&self.planes.items[i], &self.planes.items[j], &self.planes.items[k]];
         let proxy;
         for (x, y) in [(0, 1), (0, 2), (1, 2)] {
             let mut shared = bits((planes[x].through & planes[y].through) as u64);
@@ -389,8 +389,8 @@ impl CertifiedClipper {
     /// Stores vertex `out` (on the planes `on`), making the coordinates that
     /// axis planes through it fix exact.
     pub(super) fn place(&mut self, out: usize, on: u64, mut x: DVec3, mut rad: DVec3) -> bool {
-        for i in bits(on & self.axis_planes) {
-            let p = &self.planes[i];
+        for i in bits(on & self.planes.axis) {
+            let p = &self.planes.items[i];
             *coord_mut(&mut x, p.axis as usize) = p.value;
             *coord_mut(&mut rad, p.axis as usize) = 0.0;
         }
@@ -406,9 +406,9 @@ impl CertifiedClipper {
     /// lies on an axis plane only where both points have its coordinate (an
     /// exactly zero step along that axis): no coordinate is left to fix.
     pub(super) fn store(&mut self, out: usize, x: DVec3, rad: DVec3) {
-        self.pos[out] = x;
-        self.rad[out] = rad;
-        self.is_point[out] = 0;
+        self.verts.pos[out] = x;
+        self.verts.rad[out] = rad;
+        self.verts.is_point[out] = 0;
     }
 
     /// Where an edge on the planes `common` crosses plane `k`, with an a
@@ -421,19 +421,19 @@ impl CertifiedClipper {
     ///
     /// `None` when no such description applies.
     pub(super) fn structured_crossing(&self, common: u64, k: usize) -> Option<(DVec3, DVec3)> {
-        let kp = &self.planes[k];
+        let kp = &self.planes.items[k];
         let axis = kp.axis as usize;
         if kp.axis < 3 {
             let mut first_axis = None;
-            for i in bits(common & self.axis_planes) {
-                let p = &self.planes[i];
+            for i in bits(common & self.planes.axis) {
+                let p = &self.planes.items[i];
                 if p.axis as usize != axis {
                     match first_axis {
                         None => first_axis = Some(i),
-                        Some(f) if self.planes[f].axis != p.axis => {
+                        Some(f) if self.planes.items[f].axis != p.axis => {
                             // Three axis planes: an exact point.
                             let mut x = DVec3::ZERO;
-                            for q in [kp, &self.planes[f], p] {
+                            for q in [kp, &self.planes.items[f], p] {
                                 *coord_mut(&mut x, q.axis as usize) = q.value;
                             }
                             return Some((x, DVec3::ZERO));
@@ -442,7 +442,7 @@ impl CertifiedClipper {
                     }
                 }
             }
-            let general = common & !self.axis_planes;
+            let general = common & !self.planes.axis;
             if let (Some(f), true) = (first_axis, general != 0) {
                 return self.crossing_on_plane(general.trailing_zeros() as usize, [k, f]);
             }
@@ -451,10 +451,10 @@ impl CertifiedClipper {
         // one point and the light's direction.
         for i in bits(common) {
             for j in bits(common & (u64::MAX << i << 1)) {
-                let mut shared = bits((self.planes[i].through & self.planes[j].through) as u64);
+                let mut shared = bits((self.planes.items[i].through & self.planes.items[j].through) as u64);
                 let Some(a) = shared.next() else { continue };
                 let a_point = self.points[a];
-                let (d, rounded) = match (shared.next(), self.planes[i].src, self.planes[j].src) {
+                let (d, rounded) = match (shared.next(), self.planes.items[i].src, self.planes.items[j].src) {
                     (Some(b), ..) => (self.points[b] - a_point, true),
                     (None, Plane::PointsDirection { direction: u, .. }, Plane::PointsDirection { direction: v, .. }) if u == v => {
                         (u, false)
@@ -470,13 +470,13 @@ impl CertifiedClipper {
     /// The point on general plane `g` whose coordinates on the axes of the
     /// two axis planes `fixed` are their values.
     pub(super) fn crossing_on_plane(&self, g: usize, fixed: [usize; 2]) -> Option<(DVec3, DVec3)> {
-        let p = &self.planes[g];
-        let [k1, k2] = fixed.map(|f| (self.planes[f].axis as usize).min(2));
+        let p = &self.planes.items[g];
+        let [k1, k2] = fixed.map(|f| (self.planes.items[f].axis as usize).min(2));
         let j = (3 - k1 - k2).min(2);
         let (n, en, anchor) = (p.n.to_array(), p.en.to_array(), p.anchor.to_array());
         let mut x = [0.0; 3];
-        x[k1] = self.planes[fixed[0]].value;
-        x[k2] = self.planes[fixed[1]].value;
+        x[k1] = self.planes.items[fixed[0]].value;
+        x[k2] = self.planes.items[fixed[1]].value;
         // NOTE: n_j (x_j − a_j) = −q with q = Σ_{m≠j} n_m (x_m − a_m) + offset.
         // q's error: the normal's (en·|w|) and 5u of its terms' absolute sum;
         // dividing by ñ_j (within en_j) adds |q/n_j|·en_j over |ñ_j| − en_j.
@@ -551,12 +551,12 @@ impl CertifiedClipper {
     /// inside and an outside vertex sharing two planes, and faces are
     /// assembled once, in `write`.
     pub(super) fn cut(&mut self, k: usize, inside: VertexSet, outside: VertexSet) -> bool {
-        let old_n = self.n_verts;
+        let old_n = self.verts.len;
         let bit = 1u64 << k;
         let mut on_k = 0;
         // NOTE: 2 ≤ old_n ≤ 64 (a vertex on each side), so the shift is in range.
         for v in bits(u64::MAX >> (64 - old_n) & !(inside | outside)) {
-            self.on[v] |= bit;
+            self.verts.on[v] |= bit;
             on_k += 1;
         }
         let mut n_new = old_n;
@@ -565,19 +565,19 @@ impl CertifiedClipper {
         // NOTE: tested pair by pair: a body has few vertices, and per-plane
         // vertex sets cost a loop over every inside vertex's planes.
         for w in bits(outside) {
-            let on_w = self.on[w] & !self.flat;
+            let on_w = self.verts.on[w] & !self.flat;
             let mut near = match self.dim {
                 3 => {
                     let mut near = 0;
                     for u in bits(inside) {
-                        near |= (two_or_more(self.on[u] & on_w) as u64) << u;
+                        near |= (two_or_more(self.verts.on[u] & on_w) as u64) << u;
                     }
                     near
                 }
                 2 => {
                     let mut near = 0;
                     for u in bits(inside) {
-                        near |= ((self.on[u] & on_w != 0) as u64) << u;
+                        near |= ((self.verts.on[u] & on_w != 0) as u64) << u;
                     }
                     near
                 }
@@ -616,7 +616,7 @@ impl CertifiedClipper {
             n -= 1;
             self.move_vertex(n, w);
         }
-        self.n_verts = n;
+        self.verts.len = n;
         true
     }
 

@@ -23,16 +23,16 @@ impl CertifiedClipper {
         scene: &Aabb,
         light_frustum: Option<&[DVec3; 8]>,
     ) -> Step {
-        self.n_planes = 0;
-        self.n_verts = 0;
-        self.axis_planes = 0;
+        self.planes.len = 0;
+        self.verts.len = 0;
+        self.planes.axis = 0;
         self.cuts = 0;
         self.cleared = 0;
         self.exact_vertices = 0;
         self.closed_by_scene_face = None;
         self.dim = 3;
         self.flat = 0;
-        self.fold_keys = [(NONE, NONE); FOLD_CACHE];
+        self.planes.fold_keys = [(NONE, NONE); FOLD_CACHE];
         // NOTE: beneath–beyond takes the frustum's faces as the hull's; when
         // a corner lies in another face's plane the frustum's own faces merge
         // (with corners inside them), so such frusta go to the exact engine.
@@ -68,17 +68,17 @@ impl CertifiedClipper {
         let mut planes_of = [0u64; 9];
         let mut horizon = 0u64;
         for (p, (&through, &origin)) in hull.through().iter().zip(hull.origins()).enumerate() {
-            self.planes[p] = match origin {
+            self.planes.items[p] = match origin {
                 Origin::Face(f) => FloatPlane::of_face(view, f as usize, through),
                 Origin::Horizon(..) => FloatPlane::new(view.hull_plane(apex, origin), through),
             };
-            self.partners[p] = 0;
+            self.planes.partners[p] = 0;
             horizon |= u64::from(matches!(origin, Origin::Horizon(..))) << p;
             for c in bits(u64::from(through)) {
                 planes_of[c] |= 1 << p;
             }
         }
-        self.n_planes = hull.len();
+        self.planes.len = hull.len();
         // The vertices: the input points on some plane (a corner whose faces
         // all see the light is inside the hull), exact.
         for (c, &on) in planes_of.iter().enumerate() {
@@ -132,7 +132,7 @@ impl CertifiedClipper {
         // containing its direction).
         let (mut np, mut with_light) = (0, 0u64);
         for (&through, &origin) in hull.through().iter().zip(hull.origins()) {
-            self.planes[np] = match origin {
+            self.planes.items[np] = match origin {
                 Origin::Face(f) => {
                     let holds_light = coplanar & 1 << f != 0;
                     with_light |= u64::from(holds_light) << np;
@@ -146,16 +146,16 @@ impl CertifiedClipper {
                     _ => continue,
                 },
             };
-            self.partners[np] = 0;
+            self.planes.partners[np] = 0;
             np += 1;
         }
-        self.n_planes = np;
+        self.planes.len = np;
         // Incidences from the planes' defining points; per kept corner, its
         // planes that contain the light's direction.
         let (mut planes_of, mut along) = ([0u64; 8], [0u64; 8]);
         for p in 0..np {
             let bit = 1u64 << p;
-            for c in bits(u64::from(self.planes[p].through) & u64::from(kept)) {
+            for c in bits(u64::from(self.planes.items[p].through) & u64::from(kept)) {
                 planes_of[c] |= bit;
                 along[c] |= bit & with_light;
             }
@@ -202,19 +202,19 @@ impl CertifiedClipper {
     /// Appends input point `i` as an exact vertex on the planes `on` (the
     /// hull's first vertices: at most nine, so always room).
     pub(super) fn push_input_vertex(&mut self, i: usize, on: u64) {
-        let v = self.n_verts;
-        self.pos[v] = self.points[i];
-        self.rad[v] = DVec3::ZERO;
-        self.on[v] = on;
-        self.is_point[v] = 1 << i;
-        self.n_verts += 1;
+        let v = self.verts.len;
+        self.verts.pos[v] = self.points[i];
+        self.verts.rad[v] = DVec3::ZERO;
+        self.verts.on[v] = on;
+        self.verts.is_point[v] = 1 << i;
+        self.verts.len += 1;
     }
 
     /// An axis plane that holds S and every frustum corner strictly inside,
     /// facing the light on the axis the light crosses most steeply; appended
     /// to the planes, its index returned.
     pub(super) fn closing_plane(&mut self, toward: DVec3, scene: &Aabb, corners: &[DVec3; 8]) -> Option<usize> {
-        let k = self.n_planes;
+        let k = self.planes.len;
         if k >= MAX_FAST_PLANES {
             return None;
         }
@@ -247,10 +247,10 @@ impl CertifiedClipper {
         };
         // An axis plane gives the shadow vertices an exact coordinate and
         // cheap crossings with the scene's faces.
-        self.planes[k] = FloatPlane::axis(axis as u8, upper, value);
-        self.axis_planes |= 1 << k;
-        self.partners[k] = 0;
-        self.n_planes += 1;
+        self.planes.items[k] = FloatPlane::axis(axis as u8, upper, value);
+        self.planes.axis |= 1 << k;
+        self.planes.partners[k] = 0;
+        self.planes.len += 1;
         Some(k)
     }
 
@@ -258,17 +258,17 @@ impl CertifiedClipper {
     /// meets the closing plane `cap`, on the planes `on`.
     #[inline(always)]
     pub(super) fn push_shadow(&mut self, c: usize, on: u64, cap: usize, toward: DVec3) -> Option<u8> {
-        if self.n_verts >= CAP_V {
+        if self.verts.len >= CAP_V {
             return None;
         }
         // On the ray from the corner toward the light (both exact).
-        let (pos, rad) = line_crossing(self.points[c], toward, false, &self.planes[cap])?;
-        let v = self.n_verts;
-        self.pos[v] = pos;
-        self.rad[v] = rad;
-        self.on[v] = on;
-        self.is_point[v] = 0;
-        self.n_verts += 1;
+        let (pos, rad) = line_crossing(self.points[c], toward, false, &self.planes.items[cap])?;
+        let v = self.verts.len;
+        self.verts.pos[v] = pos;
+        self.verts.rad[v] = rad;
+        self.verts.on[v] = on;
+        self.verts.is_point[v] = 0;
+        self.verts.len += 1;
         Some(v as u8)
     }
 }

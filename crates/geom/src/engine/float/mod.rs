@@ -147,36 +147,12 @@ struct Fold {
 /// Scratch space of the fast path, reused across frames.
 #[derive(Clone)]
 pub(crate) struct CertifiedClipper {
-    planes: [FloatPlane; MAX_FAST_PLANES],
-    /// Per plane: the earlier planes sharing a line of input points with it.
-    partners: [u64; MAX_FAST_PLANES],
-    n_planes: usize,
+    planes: PlaneStore,
+    /// The input points (see `N_POINTS`): view corners, the light, light frustum corners.
     points: [DVec3; N_POINTS],
-    pos: [DVec3; CAP_V],
-    rad: [DVec3; CAP_V],
-    /// Planes each vertex lies on exactly.
-    on: [u64; CAP_V],
-    /// Input points each vertex is exactly equal to.
-    is_point: [u32; CAP_V],
-    n_verts: usize,
+    verts: VertexStore,
     magnitude: f64,
-    sign: [i8; CAP_V],
-    /// `write`'s scratch: per plane, the vertices on it (a vertex set).
-    plane_members: [VertexSet; MAX_FAST_PLANES],
-    /// `write`'s scratch: per vertex, the vertices it shares an edge with.
-    neighbours: [VertexSet; CAP_V],
-    /// `write`'s scratch: per vertex `a`, the vertices `b` such that a face
-    /// written so far runs along the edge from `a` to `b`.
-    directed: [VertexSet; CAP_V],
-    /// Plane pairs `(i, k)` whose fold proxy is in `fold_proxies` (same
-    /// slot), failures included (`None`).
-    ///
-    /// NOTE: the keys live apart from the proxies so that a new body resets
-    /// 16 bytes, not eight ~250-byte proxies.
-    fold_keys: [(u8, u8); FOLD_CACHE],
-    fold_proxies: [Option<Fold>; FOLD_CACHE],
-    /// Planes that are axis planes (faces of S, a closing plane).
-    axis_planes: u64,
+    scratch: WriteScratch,
     /// Planes that cut.
     pub cuts: u16,
     /// Planes of S and L not clipped: the body's bounding box clears them.
@@ -199,6 +175,51 @@ pub(crate) struct CertifiedClipper {
     pub exact_vertices: u16,
 }
 
+/// The planes of the hull and the clips, with what is cached per plane pair.
+#[derive(Clone)]
+struct PlaneStore {
+    items: [FloatPlane; MAX_FAST_PLANES],
+    /// Per plane: the earlier planes sharing a line of input points with it.
+    partners: [u64; MAX_FAST_PLANES],
+    len: usize,
+    /// Planes that are axis planes (faces of S, a closing plane).
+    axis: u64,
+    /// Plane pairs `(i, k)` whose fold proxy is in `fold_proxies` (same
+    /// slot), failures included (`None`).
+    ///
+    /// NOTE: the keys live apart from the proxies so that a new body resets
+    /// 16 bytes, not eight ~250-byte proxies.
+    fold_keys: [(u8, u8); FOLD_CACHE],
+    fold_proxies: [Option<Fold>; FOLD_CACHE],
+}
+
+/// The body's vertices: rounded positions, their rounding radii, and the
+/// exact incidences the clips decided.
+#[derive(Clone)]
+struct VertexStore {
+    pos: [DVec3; CAP_V],
+    rad: [DVec3; CAP_V],
+    /// Planes each vertex lies on exactly.
+    on: [u64; CAP_V],
+    /// Input points each vertex is exactly equal to.
+    is_point: [u32; CAP_V],
+    /// Each vertex's side of the plane being clipped with.
+    sign: [i8; CAP_V],
+    len: usize,
+}
+
+/// `write`'s scratch: the incidence graph it orders faces with.
+#[derive(Clone)]
+struct WriteScratch {
+    /// Per plane, the vertices on it (a vertex set).
+    plane_members: [VertexSet; MAX_FAST_PLANES],
+    /// Per vertex, the vertices it shares an edge with.
+    neighbours: [VertexSet; CAP_V],
+    /// Per vertex `a`, the vertices `b` such that a face written so far runs
+    /// along the edge from `a` to `b`.
+    directed: [VertexSet; CAP_V],
+}
+
 const DUMMY_PLANE: FloatPlane = FloatPlane {
     src: Plane::Axis { axis: 0, upper: true, value: 0.0 },
     axis: 0,
@@ -214,23 +235,25 @@ const DUMMY_PLANE: FloatPlane = FloatPlane {
 impl CertifiedClipper {
     pub(crate) fn new() -> CertifiedClipper {
         CertifiedClipper {
-            planes: [DUMMY_PLANE; MAX_FAST_PLANES],
-            partners: [0; MAX_FAST_PLANES],
-            n_planes: 0,
+            planes: PlaneStore {
+                items: [DUMMY_PLANE; MAX_FAST_PLANES],
+                partners: [0; MAX_FAST_PLANES],
+                len: 0,
+                axis: 0,
+                fold_keys: [(NONE, NONE); FOLD_CACHE],
+                fold_proxies: [None; FOLD_CACHE],
+            },
             points: [DVec3::ZERO; N_POINTS],
-            pos: [DVec3::ZERO; CAP_V],
-            rad: [DVec3::ZERO; CAP_V],
-            on: [0; CAP_V],
-            is_point: [0; CAP_V],
-            n_verts: 0,
+            verts: VertexStore {
+                pos: [DVec3::ZERO; CAP_V],
+                rad: [DVec3::ZERO; CAP_V],
+                on: [0; CAP_V],
+                is_point: [0; CAP_V],
+                sign: [0; CAP_V],
+                len: 0,
+            },
             magnitude: 0.0,
-            sign: [0; CAP_V],
-            plane_members: [0; MAX_FAST_PLANES],
-            neighbours: [0; CAP_V],
-            directed: [0; CAP_V],
-            fold_keys: [(NONE, NONE); FOLD_CACHE],
-            fold_proxies: [None; FOLD_CACHE],
-            axis_planes: 0,
+            scratch: WriteScratch { plane_members: [0; MAX_FAST_PLANES], neighbours: [0; CAP_V], directed: [0; CAP_V] },
             cuts: 0,
             cleared: 0,
             closed_by_scene_face: None,

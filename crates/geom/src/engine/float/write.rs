@@ -25,12 +25,12 @@ impl CertifiedClipper {
         // NOTE: the sizes are counted here rather than taken by `count_ones`
         // (no `popcnt` in the baseline instruction set: a dozen instructions
         // per plane; see BENCHMARKS.md for the per-body counts).
-        let np = self.n_planes;
-        let members = &mut self.plane_members[..np];
+        let np = self.planes.len;
+        let members = &mut self.scratch.plane_members[..np];
         members.fill(0);
         let mut count = [0u8; MAX_FAST_PLANES];
-        for v in 0..self.n_verts {
-            for p in bits(self.on[v]) {
+        for v in 0..self.verts.len {
+            for p in bits(self.verts.on[v]) {
                 members[p] |= 1 << v;
                 count[p] += 1;
             }
@@ -38,17 +38,17 @@ impl CertifiedClipper {
         // NOTE: two vertices of a solid span an edge exactly when they share
         // two planes (see `cut`); found once per vertex here, each face's
         // chaining is then one set operation per step.
-        for v in 0..self.n_verts {
+        for v in 0..self.verts.len {
             let (mut once, mut twice): (VertexSet, VertexSet) = (0, 0);
-            for p in bits(self.on[v]) {
-                twice |= once & self.plane_members[p];
-                once |= self.plane_members[p];
+            for p in bits(self.verts.on[v]) {
+                twice |= once & self.scratch.plane_members[p];
+                once |= self.scratch.plane_members[p];
             }
-            self.neighbours[v] = twice & !(1 << v);
+            self.scratch.neighbours[v] = twice & !(1 << v);
         }
         out.clear();
         let (mut ni, mut nf) = (0, 0);
-        self.directed[..self.n_verts].fill(0);
+        self.scratch.directed[..self.verts.len].fill(0);
         for p in 0..np {
             let m = count[p] as usize;
             if m < 3 {
@@ -61,11 +61,11 @@ impl CertifiedClipper {
                 // NOTE: three vertices of a face are a triangle in either
                 // order; the orientation is decided below like any face's, and
                 // Euler's formula still checks the whole surface.
-                let mut on_p = bits(self.plane_members[p]);
+                let mut on_p = bits(self.scratch.plane_members[p]);
                 for slot in &mut out.idx[ni..ni + 3] {
                     *slot = on_p.next().unwrap_or(0) as u16;
                 }
-            } else if self.face_cycle(self.plane_members[p], m, &mut out.idx[ni..ni + m]).is_none() {
+            } else if self.face_cycle(self.scratch.plane_members[p], m, &mut out.idx[ni..ni + m]).is_none() {
                 return false;
             }
             let cycle = &out.idx[ni..ni + m];
@@ -77,7 +77,7 @@ impl CertifiedClipper {
             out.face_start[nf] = ni as u16;
             ni += m;
             out.face_start[nf + 1] = ni as u16;
-            out.face_planes[nf] = self.planes[p].approximate();
+            out.face_planes[nf] = self.planes.items[p].approximate();
             if !self.record_edges(&out.idx[ni - m..ni]) {
                 return false;
             }
@@ -85,11 +85,11 @@ impl CertifiedClipper {
         }
         // Euler's formula for a closed convex surface: every edge is in two
         // faces, V − E + F = 2.
-        if ni % 2 != 0 || self.n_verts + nf != ni / 2 + 2 {
+        if ni % 2 != 0 || self.verts.len + nf != ni / 2 + 2 {
             out.clear();
             return false;
         }
-        for v in 0..self.n_verts {
+        for v in 0..self.verts.len {
             let Some(x) = self.output_vertex(v) else {
                 out.clear();
                 return false;
@@ -97,7 +97,7 @@ impl CertifiedClipper {
             out.verts[v] = x;
         }
         out.dim = 3;
-        out.n_verts = self.n_verts;
+        out.n_verts = self.verts.len;
         out.face_start[nf] = ni as u16;
         out.n_faces = nf;
         true
@@ -111,7 +111,7 @@ impl CertifiedClipper {
     /// orienting them read positions only through their proven radii.
     #[inline]
     pub(super) fn output_vertex(&mut self, v: usize) -> Option<DVec3> {
-        let (x, r) = (self.pos[v], self.rad[v]);
+        let (x, r) = (self.verts.pos[v], self.verts.rad[v]);
         let allowed = x.abs().max(DVec3::splat(self.magnitude)) * (ROUNDING_ULPS * f64::EPSILON);
         // Adding +0 turns −0 into +0.
         if x.is_finite() && r.cmple(allowed).all() {
@@ -141,11 +141,11 @@ impl CertifiedClipper {
     pub(super) fn exact_vertex(&self, v: usize) -> Option<DVec3> {
         let mut on = [0usize; MAX_FAST_PLANES];
         let mut n = 0;
-        for p in bits(self.on[v]) {
+        for p in bits(self.verts.on[v]) {
             on[n] = p;
             n += 1;
         }
-        let src = |i: usize| &self.planes[on[i]].src;
+        let src = |i: usize| &self.planes.items[on[i]].src;
         for i in 0..n {
             for j in i + 1..n {
                 for k in j + 1..n {
@@ -178,23 +178,23 @@ impl CertifiedClipper {
     /// close or its orientation is not proven.
     pub(super) fn write_flat(&mut self, out: &mut Body) -> bool {
         out.clear();
-        let n = self.n_verts;
+        let n = self.verts.len;
         if self.dim == 2 {
             if !(3..=MAX_FACE_INDICES).contains(&n) {
                 return false;
             }
             // Adjacent vertices share a plane besides the flat ones.
             let edges = !self.flat;
-            let members = &mut self.plane_members[..self.n_planes];
+            let members = &mut self.scratch.plane_members[..self.planes.len];
             members.fill(0);
             for v in 0..n {
-                for p in bits(self.on[v] & edges) {
+                for p in bits(self.verts.on[v] & edges) {
                     members[p] |= 1 << v;
                 }
             }
             for v in 0..n {
-                let near = bits(self.on[v] & edges).fold(0, |near, p| near | self.plane_members[p]);
-                self.neighbours[v] = near & !(1 << v);
+                let near = bits(self.verts.on[v] & edges).fold(0, |near, p| near | self.scratch.plane_members[p]);
+                self.scratch.neighbours[v] = near & !(1 << v);
             }
             let all: VertexSet = u64::MAX >> (64 - n);
             if self.face_cycle(all, n, &mut out.idx[..n]).is_none() {
@@ -215,7 +215,7 @@ impl CertifiedClipper {
             }
             out.face_start[0] = 0;
             out.face_start[1] = n as u16;
-            out.face_planes[0] = self.planes[self.support].approximate();
+            out.face_planes[0] = self.planes.items[self.support].approximate();
             out.n_faces = 1;
         } else {
             for v in 0..n {
@@ -242,10 +242,10 @@ impl CertifiedClipper {
         // |δa|×|b| + |a|×|δb| + |δa|×|δb|, its own rounding by 2u of |a|×|b|,
         // and the running sum by (terms)·u of the same. The plane's own normal
         // is not used: it may be known less well than the polygon.
-        let (x0, r0) = (self.pos[cycle[0] as usize], self.rad[cycle[0] as usize]);
+        let (x0, r0) = (self.verts.pos[cycle[0] as usize], self.verts.rad[cycle[0] as usize]);
         let edge = |v: usize| {
-            let d = self.pos[v] - x0;
-            (d, self.rad[v] + r0 + d.abs() * U)
+            let d = self.verts.pos[v] - x0;
+            (d, self.verts.rad[v] + r0 + d.abs() * U)
         };
         let rounding = (cycle.len() as f64 + 2.0) * U;
         let (mut area, mut err) = (DVec3::ZERO, DVec3::ZERO);
@@ -258,7 +258,7 @@ impl CertifiedClipper {
         }
         // Against the vertices off the plane, until one proves the side (a
         // vertex may lie very close to the plane without being on it).
-        (0..self.n_verts).filter(|&v| self.on[v] & 1 << p == 0).find_map(|y| {
+        (0..self.verts.len).filter(|&v| self.verts.on[v] & 1 << p == 0).find_map(|y| {
             let (d, ed) = edge(y);
             let value = area.dot(d);
             let bound = (err.dot(d.abs() + ed) + area.abs().dot(ed) + 3.0 * U * area.abs().dot(d.abs())) * SLACK + FLOOR;
@@ -282,10 +282,13 @@ impl CertifiedClipper {
         if m == 4 {
             // A quadrilateral: the first vertex's two neighbours, and the
             // vertex opposite, which must neighbour both.
-            let near = self.neighbours[first] & face;
+            let near = self.scratch.neighbours[first] & face;
             let (a, rest) = (near.trailing_zeros() as usize, near & near.wrapping_sub(1));
             let opposite = face & !near & !(1 << first);
-            if !two_or_more(near) || two_or_more(rest) || self.neighbours[opposite.trailing_zeros() as usize & (CAP_V - 1)] & face != near {
+            if !two_or_more(near)
+                || two_or_more(rest)
+                || self.scratch.neighbours[opposite.trailing_zeros() as usize & (CAP_V - 1)] & face != near
+            {
                 return None;
             }
             cycle[..4].copy_from_slice(&[first, a, opposite.trailing_zeros() as usize, rest.trailing_zeros() as usize].map(|v| v as u16));
@@ -297,7 +300,7 @@ impl CertifiedClipper {
         let mut placed: VertexSet = 1 << first;
         cycle[0] = first as u16;
         for slot in cycle.iter_mut().take(m).skip(1) {
-            let near = self.neighbours[cur] & face & !(1 << prev);
+            let near = self.scratch.neighbours[cur] & face & !(1 << prev);
             if near == 0 {
                 return None;
             }
@@ -309,7 +312,7 @@ impl CertifiedClipper {
             *slot = next as u16;
             (prev, cur) = (cur, next);
         }
-        if self.neighbours[cur] & 1 << first == 0 {
+        if self.scratch.neighbours[cur] & 1 << first == 0 {
             return None;
         }
         Some(())
@@ -324,10 +327,10 @@ impl CertifiedClipper {
         let mut a = slot(cycle[cycle.len() - 1]);
         for &b in cycle {
             let b = slot(b);
-            if self.directed[a] & 1 << b != 0 {
+            if self.scratch.directed[a] & 1 << b != 0 {
                 return Some(true);
             }
-            if self.directed[b] & 1 << a != 0 {
+            if self.scratch.directed[b] & 1 << a != 0 {
                 return Some(false);
             }
             a = b;
@@ -344,8 +347,8 @@ impl CertifiedClipper {
         let mut repeated = 0;
         for &b in cycle {
             let b = slot(b);
-            repeated |= self.directed[a] & 1 << b;
-            self.directed[a] |= 1 << b;
+            repeated |= self.scratch.directed[a] & 1 << b;
+            self.scratch.directed[a] |= 1 << b;
             a = b;
         }
         repeated == 0
@@ -374,8 +377,10 @@ impl CertifiedClipper {
             .find_map(|s| {
                 let (next, prev) = (if s + 1 == m { 0 } else { s + 1 }, if s == 0 { m - 1 } else { s - 1 });
                 let (v, a, b) = (cycle[s] as usize, cycle[next] as usize, cycle[prev] as usize);
-                let (to_a, to_b) = (self.on[v] & self.on[a] & others, self.on[v] & self.on[b] & others);
-                bits(to_a).find_map(|i| bits(to_b).find_map(|j| Self::normals_det_sign(&self.planes[p], &self.planes[i], &self.planes[j])))
+                let (to_a, to_b) = (self.verts.on[v] & self.verts.on[a] & others, self.verts.on[v] & self.verts.on[b] & others);
+                bits(to_a).find_map(|i| {
+                    bits(to_b).find_map(|j| Self::normals_det_sign(&self.planes.items[p], &self.planes.items[i], &self.planes.items[j]))
+                })
             })
             .or_else(|| self.area_orientation(p, &cycle[..m]).map(|ccw| if ccw { -1 } else { 1 }))?;
         Some(decided > 0)
