@@ -79,7 +79,7 @@ pub enum WarpDirection {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
-/// Light-space perspective shadow maps [LiSPSM04].
+/// Light-space perspective shadow maps \[LISPSM04\].
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct LispsmSettings {
     /// A visible far distance (e.g. from occlusion culling). Only tightens
@@ -96,7 +96,7 @@ impl Default for LispsmSettings {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
-/// Perspective shadow maps [PSM02].
+/// Perspective shadow maps \[PSM02\].
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct PsmSettings {
     /// A tightened near distance (minimum visible depth read back by the
@@ -110,7 +110,7 @@ pub struct PsmSettings {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
-/// Trapezoidal shadow maps [TSM04].
+/// Trapezoidal shadow maps \[TSM04\].
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct TsmSettings {
     /// Distance δ of the focus point beyond the near plane, as a fraction of

@@ -1,7 +1,7 @@
 //! Shadowfocus decides where a shadow map looks: each frame it fits the
 //! light's projection to exactly the part of the world that can cast a
 //! visible shadow, the focus body `H = hull(V ∪ l) ∩ S ∩ L` of the view `V`,
-//! the light `l`, the scene box `S` and the light's frustum `L` [PSM02].
+//! the light `l`, the scene box `S` and the light's frustum `L` \[PSM02\].
 //!
 //! - [`geom`] computes `H` exactly (certified floating point, an exact
 //!   engine where floats cannot decide), with typed errors for bad input.
