@@ -84,7 +84,7 @@ fn warped_and_split_maps_beat_uniform_at_equal_texel_budget() {
 #[test]
 fn inverted_light_renders_correct_shadows_with_psm() {
     let s = scene("inverted");
-    let opts = FitOptions { method: Method::Psm, splits: 1, scheme: "practical".into(), lambda: 0.5, resolution: RES, stable: false };
+    let opts = FitOptions { method: Method::Psm, resolution: RES, ..FitOptions::default() };
     // NOTE: the warp guard off, so that the inverted PSM map itself is rendered (the next test
     // checks that it is inverted).
     let settings = FocusSettings { warp_guard: false, ..opts.settings().unwrap() };
@@ -101,7 +101,7 @@ fn inverted_scene_really_inverts_the_psm_light() {
     // The scene puts a point light behind the camera: in post-perspective
     // space it lies beyond infinity and PSM must reverse the depth test.
     let s = scene("inverted");
-    let opts = FitOptions { method: Method::Psm, splits: 1, scheme: "practical".into(), lambda: 0.5, resolution: RES, stable: false };
+    let opts = FitOptions { method: Method::Psm, resolution: RES, ..FitOptions::default() };
     // NOTE: the warp guard off: the guard may prefer the uniform map here,
     // and this test is about PSM's inverted light itself.
     let settings = FocusSettings { warp_guard: false, ..opts.settings().unwrap() };
@@ -207,4 +207,17 @@ fn depth_clamped_maps_render_the_same_shadows_with_a_tighter_depth_range() {
     );
     assert!(factors.iter().all(|f| *f >= 1.0 - 1e-9), "clamping widened a depth range");
     assert!(factors[factors.len() / 2] > 1.0, "clamping tightened no depth range");
+}
+
+#[test]
+fn the_renderer_refuses_what_it_cannot_render_right() {
+    // wgpu keeps clip depth in [0, 1]: OpenGL's [−1, 1] maps would lose
+    // every caster in front of the map's middle. Refused, with the reason.
+    let s = scene("chessboard");
+    let opts = FitOptions { clip: ClipConvention::OPENGL, ..FitOptions::default() };
+    let mut guard = RENDERER.lock().unwrap_or_else(|e| e.into_inner());
+    let renderer = guard.get_or_insert_with(|| Renderer::from_env().expect("a wgpu adapter (llvmpipe on a fresh machine)"));
+    let frame = shadowfocus_cli::cli::overrides::Frame::of(&s);
+    let err = shadowfocus_cli::cli::render::render_frame(renderer, &s, &frame, &opts, SIZE, false).unwrap_err();
+    assert!(err.contains("[0, 1]"), "{err}");
 }

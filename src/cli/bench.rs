@@ -47,7 +47,7 @@ pub struct BenchOptions {
 const METHODS: [Method; 4] = [Method::Uniform, Method::Psm, Method::Lispsm, Method::Tsm];
 
 fn opts(method: Method, splits: usize, scheme: &str, resolution: u32) -> FitOptions {
-    FitOptions { method, splits, scheme: scheme.into(), lambda: 0.5, resolution, stable: false }
+    FitOptions { method, splits, scheme: scheme.into(), resolution, ..FitOptions::default() }
 }
 
 /// Configuration name: `lispsm`, `pssm4-log-lispsm`.

@@ -4,8 +4,8 @@ use super::body::{case_median_ns, median, p99};
 use super::case::{case_lines, parse_case, Case};
 use serde_json::{json, Value};
 use shadowfocus_focus::{
-    camera_from_corners, fit, fit_frustum, fit_map, fit_prepared, FocusResult, FocusSettings, Method, PreparedView, SplitScheme,
-    SplitSettings,
+    camera_from_corners, fit, fit_frustum, fit_map, fit_prepared, ClipConvention, FocusResult, FocusSettings, Method, PreparedView,
+    SplitScheme, SplitSettings,
 };
 use shadowfocus_geom::{Body, Camera, Focuser, Frustum};
 use std::hint::black_box;
@@ -32,6 +32,42 @@ pub struct FitOptions {
     /// Texel-snapped, rotation-invariant fitting (uniform, directional).
     #[arg(long)]
     pub stable: bool,
+    /// The clip convention of the matrices: wgpu | d3d | metal | vulkan | opengl.
+    #[arg(long, default_value = "wgpu", value_parser = parse_clip)]
+    pub clip: ClipConvention,
+    /// Reversed-Z in that convention (depth 1 nearest the light).
+    #[arg(long)]
+    pub reversed_z: bool,
+    /// Fit each map's depth range to its receivers, for rendering with depth clamping.
+    #[arg(long)]
+    pub depth_clamp: bool,
+}
+
+impl Default for FitOptions {
+    fn default() -> Self {
+        FitOptions {
+            method: Method::Lispsm,
+            splits: 1,
+            scheme: "practical".into(),
+            lambda: 0.5,
+            resolution: 1024,
+            stable: false,
+            clip: ClipConvention::WGPU,
+            reversed_z: false,
+            depth_clamp: false,
+        }
+    }
+}
+
+pub fn parse_clip(s: &str) -> Result<ClipConvention, String> {
+    match s {
+        "wgpu" => Ok(ClipConvention::WGPU),
+        "d3d" => Ok(ClipConvention::D3D),
+        "metal" => Ok(ClipConvention::METAL),
+        "vulkan" => Ok(ClipConvention::VULKAN),
+        "opengl" => Ok(ClipConvention::OPENGL),
+        _ => Err(format!("unknown clip convention {s:?}: expected wgpu, d3d, metal, vulkan or opengl")),
+    }
 }
 
 pub fn parse_method(s: &str) -> Result<Method, String> {
@@ -57,6 +93,8 @@ impl FitOptions {
             splits: SplitSettings { count: self.splits, scheme, ..SplitSettings::default() },
             resolution: self.resolution,
             stable: self.stable,
+            clip: if self.reversed_z { self.clip.reversed() } else { self.clip },
+            depth_clamp: self.depth_clamp,
             ..FocusSettings::default()
         };
         s.validate().map_err(|e| e.to_string())?;
@@ -260,6 +298,21 @@ pub fn phases(input: impl BufRead, settings: &FocusSettings) -> std::io::Result<
 mod tests {
     use super::*;
     use crate::cli::bench_test::{assert_times, smoke_lines};
+
+    /// `--clip`, `--reversed-z` and `--depth-clamp` reach the settings, and
+    /// an unknown convention is refused with the names it accepts.
+    #[test]
+    fn clip_options_reach_the_settings() {
+        for (name, clip) in [("wgpu", ClipConvention::WGPU), ("vulkan", ClipConvention::VULKAN), ("opengl", ClipConvention::OPENGL)] {
+            let opts = FitOptions { clip: parse_clip(name).unwrap(), reversed_z: true, depth_clamp: true, ..FitOptions::default() };
+            let s = opts.settings().unwrap();
+            assert_eq!(s.clip, clip.reversed(), "{name}");
+            assert!(s.depth_clamp);
+        }
+        assert_eq!(FitOptions::default().settings().unwrap().clip, ClipConvention::WGPU);
+        let err = parse_clip("directx9").unwrap_err();
+        assert!(err.contains("wgpu, d3d, metal, vulkan or opengl"), "{err}");
+    }
 
     /// `--bench` times every readable case whole and, for each camera a view
     /// can be prepared for, the preparation and the fit from it; a line that

@@ -4,7 +4,7 @@ use super::fit::FitOptions;
 use super::overrides::{Frame, Overrides};
 use render::{contact_sheet, write_outputs, Image, LightSpec, RenderRequest, Renderer, Scene, ShadowMapSpec};
 use serde_json::{json, Value};
-use shadowfocus_focus::{cull_casters, fit, DepthTest, FocusResult, FocusSettings, Method};
+use shadowfocus_focus::{cull_casters, fit, DepthRange, DepthTest, FocusResult, FocusSettings, Method};
 use shadowfocus_geom::{Aabb, Camera, Frustum, Light};
 use shadowfocus_render as render;
 use std::path::Path;
@@ -118,6 +118,15 @@ pub fn render_frame(
     maps: bool,
 ) -> Result<(render::RenderOutput, Value), String> {
     let settings = opts.settings()?;
+    // NOTE: the renderer is wgpu: clip depth in [0, 1] (reversed-Z maps
+    // render through their greater test), and clamping where the adapter
+    // has it. Anything else would render wrong shadows, so it is refused.
+    if settings.clip.depth != DepthRange::ZeroToOne {
+        return Err("the renderer uses wgpu's clip depth [0, 1]: render with --clip wgpu, d3d, metal or vulkan".into());
+    }
+    if settings.depth_clamp && !renderer.adapter().depth_clamp {
+        return Err(format!("--depth-clamp needs depth clamping (DEPTH_CLIP_CONTROL), which {} lacks", renderer.adapter().name));
+    }
     let aspect = size.0 as f64 / size.1 as f64;
     let (specs, focusing_us, summary) = fit_frame(scene, frame, aspect, &settings)?;
     // Reported in the metrics; a map the body fills exactly can come out a
@@ -134,12 +143,15 @@ pub fn render_frame(
     req.settings.width = size.0;
     req.settings.height = size.1;
     req.settings.shadow_resolution = opts.resolution;
+    req.settings.depth_clamp = settings.depth_clamp;
     let out = renderer.render(&req).map_err(|e| e.to_string())?;
     let extra = json!({
         "method": opts.method.name(),
         "splits": opts.splits,
         "scheme": opts.scheme,
         "resolution": opts.resolution,
+        "reversed_z": settings.clip.reversed_z,
+        "depth_clamp": settings.depth_clamp,
         "focusing_us": focusing_us,
         "fit": summary,
     });
@@ -159,7 +171,7 @@ pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
 /// The demo's configurations at one texel budget: four single-map methods
 /// at R², and four splits at (R/2)² each.
 pub fn demo_configs(resolution: u32) -> Vec<(String, FitOptions)> {
-    let base = |method, splits, res| FitOptions { method, splits, scheme: "practical".into(), lambda: 0.5, resolution: res, stable: false };
+    let base = |method, splits, res| FitOptions { method, splits, resolution: res, ..FitOptions::default() };
     vec![
         ("uniform".into(), base(Method::Uniform, 1, resolution)),
         ("psm".into(), base(Method::Psm, 1, resolution)),

@@ -106,7 +106,7 @@ impl SweepMethod {
     /// (k splits get resolution/√k per side each: R/2 for four).
     pub fn options(&self, resolution: u32) -> FitOptions {
         let res = if self.splits == 1 { resolution } else { ((resolution as f64 / (self.splits as f64).sqrt()).round() as u32).max(1) };
-        FitOptions { method: self.method, splits: self.splits, scheme: "practical".into(), lambda: 0.5, resolution: res, stable: false }
+        FitOptions { method: self.method, splits: self.splits, resolution: res, ..FitOptions::default() }
     }
 }
 
