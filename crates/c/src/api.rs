@@ -347,9 +347,9 @@ pub unsafe extern "C" fn sf_caster_planes(
         guard(ctx, |ctx| {
             let count = reset_count(count)?;
             output(planes, capacity, "planes")?;
-            let mut all = [glam::DVec4::ZERO; shadowfocus_focus::MAX_REGION_PLANES];
-            let n = ctx.caster_planes(map_index, &mut all)?;
-            write_all(planes.cast::<[f64; 4]>(), capacity, count, n, "planes", |i| all[i].to_array())
+            let region = ctx.caster_region(map_index)?;
+            let all = region.planes();
+            write_all(planes.cast::<[f64; 4]>(), capacity, count, all.len(), "planes", |i| all[i].to_array())
         })
     }
 }

@@ -3,7 +3,7 @@
 use crate::convert;
 use crate::error::Failure;
 use crate::types::SfStatus;
-use shadowfocus_focus::{caster_planes, cull_casters, fit_prepared, FocusResult, FocusSettings, PreparedView, MAX_REGION_PLANES};
+use shadowfocus_focus::{cull_casters, fit_prepared, CasterRegion, FocusResult, FocusSettings, PreparedView};
 use shadowfocus_geom::{Aabb, Body, Camera, Focuser, Frustum, Light};
 use std::ffi::c_char;
 
@@ -111,9 +111,9 @@ impl SfContext {
         Ok(self.map(index)?.body())
     }
 
-    /// The caster planes of map `index` of the last fit, into `out`.
-    pub fn caster_planes(&self, index: usize, out: &mut [glam::DVec4; MAX_REGION_PLANES]) -> Result<usize, Failure> {
-        Ok(caster_planes(self.map(index)?, out)?)
+    /// The caster region of map `index` of the last fit.
+    pub fn caster_region(&self, index: usize) -> Result<CasterRegion, Failure> {
+        Ok(CasterRegion::of_map(self.map(index)?))
     }
 
     /// The body of the whole view of the last fit (its camera as fitted,

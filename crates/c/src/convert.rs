@@ -169,6 +169,7 @@ fn method_index(m: Method) -> c_int {
 // NOTE: the only place that reads a map's fitted fields.
 pub fn map(m: &ShadowMap) -> SfMap {
     let f = &m.fit;
+    let (view, projection) = m.light_view_and_projection();
     SfMap {
         active: m.is_active().into(),
         depth_greater: (f.depth_test == DepthTest::Greater).into(),
@@ -177,8 +178,8 @@ pub fn map(m: &ShadowMap) -> SfMap {
         clip_from_world_f32: f.clip_from_world_f32.to_cols_array(),
         uv_from_world: f.uv_from_world().to_cols_array(),
         uv_from_world_f32: f.uv_from_world_f32().to_cols_array(),
-        light_view: m.light_view().to_cols_array(),
-        light_projection: m.light_projection().to_cols_array(),
+        light_view: view.to_cols_array(),
+        light_projection: projection.to_cols_array(),
         inverted: f.inverted().into(),
         texel_size: f.texel_size,
         method: method_index(f.method),

@@ -102,7 +102,17 @@ impl ClipConvention {
     /// greater with reversed-Z. A PSM map of an inverted light uses the
     /// other one.
     pub fn normal_depth_test(self) -> DepthTest {
-        if self.reversed_z {
+        self.depth_test(false)
+    }
+
+    /// The depth test of a map: the depth row's side of the light (see
+    /// `project`), known from how the row was built rather than from the
+    /// sign of the rounded product `z·L`, which rounding decides where the
+    /// body is tiny against its coordinates. Every light space's depth row
+    /// has `z·L < 0` (less) except PSM's inverted light's; reversed-Z
+    /// negates it.
+    pub(crate) fn depth_test(self, inverted: bool) -> DepthTest {
+        if inverted != self.reversed_z {
             DepthTest::Greater
         } else {
             DepthTest::Less

@@ -1,13 +1,12 @@
 //! One frame: splits, bodies, maps, plan.
 
 use crate::clamp::clamp_depths;
-use crate::clip::ClipConvention;
 use crate::cone::turn_into_cone;
 use crate::error::FocusError;
 use crate::frame::{perpendicular_hint, tangent_frame};
 use crate::methods::{fit_body, light_point, Fitted, SplitView};
 use crate::project::texel_size;
-use crate::result::{CubeFace, DepthTest, FocusResult, MapFit, MapState, Notes, ShadowMap, Skipped};
+use crate::result::{CubeFace, FocusResult, MapFit, MapState, Notes, ShadowMap, Skipped};
 use crate::settings::{FocusSettings, Method, PointMode};
 use crate::splits::split_depths;
 use crate::MAX_SPLITS;
@@ -383,26 +382,13 @@ fn map_fit(sv: &SplitView, light: &Light, f: &Fitted) -> MapFit {
         clip_from_world: f.m,
         clip_from_world_f32: f32_matrix(&f.m, sv.settings.f32_origin),
         f32_exact: f.f32_exact,
-        depth_test: depth_test(f.inverted, sv.settings.clip),
+        depth_test: sv.settings.clip.depth_test(f.inverted),
         texel_size: [texel_size(&f.m, lp, eye + fwd * sv.camera.near, res), texel_size(&f.m, lp, eye + fwd * sv.camera.far, res)],
         method: f.method,
         warp_near: f.warp_near,
         psm_shift: f.psm_shift,
         clip: sv.settings.clip,
         depth_clamp: false,
-    }
-}
-
-/// The depth test of a map: the depth row's side of the light (see
-/// `project`), known from how the row was built rather than from the sign
-/// of the rounded product `z·L`, which rounding decides where the body is
-/// tiny against its coordinates. Every light space's depth row has
-/// `z·L < 0` (less) except PSM's inverted light's; reversed-Z negates it.
-fn depth_test(inverted: bool, clip: ClipConvention) -> DepthTest {
-    if inverted != clip.reversed_z {
-        DepthTest::Greater
-    } else {
-        DepthTest::Less
     }
 }
 

@@ -267,7 +267,14 @@ impl ShadowMap {
     /// `clip_from_world · light_view()⁻¹`: the map's projection from the
     /// light's view space (zero for an empty map).
     pub fn light_projection(&self) -> DMat4 {
-        self.fit.clip_from_world * crate::light_frame::world_from_view(&self.light_view())
+        self.light_view_and_projection().1
+    }
+
+    /// [`ShadowMap::light_view`] and [`ShadowMap::light_projection`]
+    /// together, the view computed once.
+    pub fn light_view_and_projection(&self) -> (DMat4, DMat4) {
+        let view = self.light_view();
+        (view, self.fit.clip_from_world * crate::light_frame::world_from_view(&view))
     }
 
     /// Fraction of the map's area `[−1, 1]²` that the projection of its
