@@ -8,7 +8,7 @@ use shadowfocus_cli::cli::fit::FitOptions;
 use shadowfocus_cli::cli::render::{demo_configs, fit_scene};
 use shadowfocus_cli::cli::sweep::{ADEQUATE_LIMIT, MIN_ADEQUATE_PIXELS};
 use shadowfocus_cli::focus::{fit, ClipConvention, FocusResult, FocusSettings, Method};
-use shadowfocus_cli::render::{builtin_scene, RenderMetrics, RenderRequest, Renderer, Scene};
+use shadowfocus_cli::render::{builtin_scene, DepthTest, RenderMetrics, RenderRequest, Renderer, Scene};
 use std::sync::Mutex;
 
 const SIZE: (u32, u32) = (320, 180);
@@ -106,20 +106,19 @@ fn inverted_scene_really_inverts_the_psm_light() {
     // and this test is about PSM's inverted light itself.
     let settings = FocusSettings { warp_guard: false, ..opts.settings().unwrap() };
     let (maps, _, summary) = fit_scene(&s, SIZE.0 as f64 / SIZE.1 as f64, &settings).unwrap();
-    assert!(
-        maps.iter().any(|m| m.depth_test == shadowfocus_cli::render::DepthTest::Greater),
-        "no reversed depth test in the inverted scene; fit {summary}"
-    );
+    assert!(maps.iter().any(|m| m.depth_test == DepthTest::Greater), "no reversed depth test in the inverted scene; fit {summary}");
 }
 
 #[test]
 fn reversed_z_maps_render_the_same_shadows() {
     // The same maps with their depth rows reversed (depth 1 at the light,
     // the greater test; PSM's inverted light then takes the less one) over
-    // every built-in scene and method: the renderer follows each map's
-    // depth test, and the shadows agree with the default convention's
-    // pixel for pixel up to the rounding of the reversed depths.
-    let mut compared = 0;
+    // every built-in scene and method: the renderer draws them into a
+    // reversed depth buffer (cleared to 0, compared with "greater") whenever
+    // every map of the frame is a "greater" one, and the shadows agree with
+    // the default convention's pixel for pixel up to the rounding of the
+    // reversed depths.
+    let (mut compared, mut reversed_buffers) = (0, 0);
     for name in shadowfocus_cli::render::BUILTIN_SCENES {
         let s = scene(name);
         for (label, opts) in demo_configs(RES) {
@@ -131,7 +130,12 @@ fn reversed_z_maps_render_the_same_shadows() {
             for (r, p) in maps.iter().zip(&plain) {
                 assert_ne!(r.depth_test, p.depth_test, "{name}/{label}: reversed-Z kept the depth test");
             }
-            let (a, b) = (render_with(&s, &opts, &settings).mismatch.unwrap(), render_with(&s, &opts, &reversed).mismatch.unwrap());
+            let (plain_run, reversed_run) = (render_with(&s, &opts, &settings), render_with(&s, &opts, &reversed));
+            let all_greater = maps.iter().all(|m| m.depth_test == DepthTest::Greater);
+            let buffer = if all_greater { DepthTest::Greater } else { DepthTest::Less };
+            assert_eq!(reversed_run.shadow_buffer_test, buffer, "{name}/{label}: the renderer's depth buffer");
+            reversed_buffers += all_greater as usize;
+            let (a, b) = (plain_run.mismatch.unwrap(), reversed_run.mismatch.unwrap());
             eprintln!(
                 "{name}/{label}: mismatched {} vs {} reversed, off edges {} vs {}",
                 a.mismatched, b.mismatched, a.off_edge_mismatched, b.off_edge_mismatched
@@ -143,6 +147,8 @@ fn reversed_z_maps_render_the_same_shadows() {
         }
     }
     assert_eq!(compared, shadowfocus_cli::render::BUILTIN_SCENES.len() * 5);
+    // Only PSM's inverted light (flipped back to "less") keeps a frame out of a reversed buffer.
+    assert!(reversed_buffers * 10 >= compared * 8, "{reversed_buffers} of {compared} frames used a reversed buffer");
 }
 
 #[test]

@@ -41,7 +41,10 @@ pub fn fit_scene(scene: &Scene, aspect: f64, settings: &FocusSettings) -> Result
 
 /// [`fit_scene`] with the camera and light of `frame`. The summary also
 /// gives each active map's utilisation (the fraction of the map's area that
-/// the projection of its focus body covers).
+/// the projection of its focus body covers) and `h_depth_span`, the extent
+/// of the focus body H in the map's stored depth: 1 when the depth range is
+/// fitted to H, more when it is fitted to the receivers only
+/// (`--depth-clamp`): by that factor the depth buffer's precision grows.
 pub fn fit_frame(scene: &Scene, frame: &Frame, aspect: f64, settings: &FocusSettings) -> Result<(Vec<ShadowMapSpec>, f64, Value), String> {
     let (camera, light, bounds) = frame_inputs(scene, frame, aspect)?;
     let mut result = FocusResult::new();
@@ -57,8 +60,10 @@ pub fn fit_frame(scene: &Scene, frame: &Frame, aspect: f64, settings: &FocusSett
     let mut idx = vec![0u32; boxes.len()];
     let mut specs = Vec::new();
     let mut utilisation = Vec::new();
+    let mut h_depth_span = Vec::new();
     for m in result.maps().iter().filter(|m| m.is_active()) {
         utilisation.push(m.utilisation());
+        h_depth_span.push(depth_span(&m.fit.clip_from_world, m.body().vertices()));
         let n = cull_casters(m, &boxes, &mut idx).map_err(|e| e.to_string())?;
         specs.push(ShadowMapSpec {
             world_to_clip: m.fit.clip_from_world_f32,
@@ -76,8 +81,18 @@ pub fn fit_frame(scene: &Scene, frame: &Frame, aspect: f64, settings: &FocusSett
         "maps_fitted": result.maps().len(),
         "maps_active": specs.len(),
         "utilisation": utilisation,
+        "h_depth_span": h_depth_span,
     });
     Ok((specs, focusing_us, summary))
+}
+
+/// max − min of the clip depth z / w of `points` under `clip_from_world`.
+fn depth_span(clip_from_world: &glam::DMat4, points: &[glam::DVec3]) -> f64 {
+    let (lo, hi) = points.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+        let q = *clip_from_world * p.extend(1.0);
+        (lo.min(q.z / q.w), hi.max(q.z / q.w))
+    });
+    (hi - lo).max(0.0)
 }
 
 /// Renders one scene with one configuration and writes its outputs.
@@ -195,7 +210,17 @@ fn progress(done: usize, total: usize, label: &str) {
 /// With `overrides`, every scene is seen with that camera and/or light.
 pub fn demo(dir: &Path, size: (u32, u32), resolution: u32, scenes: &[String], overrides: &Overrides) -> Result<Value, String> {
     let mut renderer = Renderer::from_env().map_err(|e| e.to_string())?;
-    let configs = demo_configs(resolution);
+    let mut configs = demo_configs(resolution);
+    // LiSPSM again with its depth range fitted to the receivers and casters
+    // toward the light clamped, beside the plain fit, where the adapter can
+    // clamp; the summary says why the column is missing where it cannot.
+    let clamping = renderer.adapter().depth_clamp;
+    if clamping {
+        let lispsm = configs.iter().find(|(l, _)| l == "lispsm").map(|(_, o)| o.clone()).ok_or("no lispsm column")?;
+        configs.push(("lispsm-clamped".into(), FitOptions { depth_clamp: true, ..lispsm }));
+    } else {
+        eprintln!("demo: {} lacks depth clamping (DEPTH_CLIP_CONTROL): no lispsm-clamped column", renderer.adapter().name);
+    }
     let total = scenes.len() * configs.len();
     let mut tiles: Vec<(Image, String)> = Vec::new();
     let mut rows = Vec::new();
@@ -206,11 +231,13 @@ pub fn demo(dir: &Path, size: (u32, u32), resolution: u32, scenes: &[String], ov
         for (label, opts) in &configs {
             progress(done, total, &format!("{name} / {label}"));
             let sub = dir.join(name).join(label);
-            let out = render_frame_to(&mut renderer, &scene, &frame, opts, size, &sub)?;
+            let (out, extra) = render_frame(&mut renderer, &scene, &frame, opts, size, true)?;
+            write_outputs(&sub, &out, Some(&extra)).map_err(|e| e.to_string())?;
             let m = &out.metrics;
             rows.push(json!({
                 "scene": name, "config": label, "aliasing": m.aliasing, "mismatch": m.mismatch,
                 "render_ms": m.render_ms, "casters": m.casters,
+                "depth_clamp": m.depth_clamp, "h_depth_span": extra["fit"]["h_depth_span"],
             }));
             let k = (size.0 / 320).max(1);
             tiles.push((out.color.downscale(k), format!("{name} {label}")));
@@ -221,7 +248,10 @@ pub fn demo(dir: &Path, size: (u32, u32), resolution: u32, scenes: &[String], ov
     let refs: Vec<(&Image, &str)> = tiles.iter().map(|(i, l)| (i, l.as_str())).collect();
     let sheet = contact_sheet(&refs, configs.len());
     sheet.save_png(&dir.join("contact_sheet.png")).map_err(|e| e.to_string())?;
-    let summary = json!({"adapter": renderer.adapter(), "size": [size.0, size.1], "resolution": resolution, "results": rows});
+    let summary = json!({
+        "adapter": renderer.adapter(), "size": [size.0, size.1], "resolution": resolution,
+        "depth_clamp_column": clamping, "results": rows,
+    });
     std::fs::write(dir.join("summary.json"), serde_json::to_string_pretty(&summary).unwrap()).map_err(|e| e.to_string())?;
     Ok(summary)
 }

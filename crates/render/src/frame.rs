@@ -5,7 +5,7 @@ use crate::ground_truth::Visibility;
 use crate::image::Image;
 use crate::scene::Scene;
 use crate::stats::RenderMetrics;
-use crate::types::{validate_maps, CameraSpec, LightSpec, RenderSettings, ShadowMapSpec};
+use crate::types::{validate_maps, CameraSpec, DepthMode, DepthTest, LightSpec, RenderSettings, ShadowMapSpec};
 
 /// One frame to render.
 #[derive(Clone, Debug)]
@@ -31,6 +31,25 @@ impl<'a> RenderRequest<'a> {
         self.settings.width as f64 / self.settings.height as f64
     }
 
+    /// The comparison the shadow depth buffer is rendered with: `Greater` (a reversed buffer,
+    /// cleared to 0, far at 0) when every map of the frame is a "greater" map in projective mode —
+    /// a reversed-Z convention, PSM's inverted light in the default one — and `Less` otherwise.
+    /// A map whose own test differs from the buffer's is stored as 1 − z ([`DepthMap::reversed`]),
+    /// because GL allows one comparison sampler per texture.
+    pub fn shadow_buffer_test(&self) -> DepthTest {
+        let projective = matches!(self.settings.depth, DepthMode::Projective { .. });
+        if projective && !self.maps.is_empty() && self.maps.iter().all(|m| m.depth_test == DepthTest::Greater) {
+            DepthTest::Greater
+        } else {
+            DepthTest::Less
+        }
+    }
+
+    /// Whether map `m` is stored as 1 − z: its depth test is not the buffer's.
+    pub(crate) fn stores_flipped(&self, m: &ShadowMapSpec) -> bool {
+        matches!(self.settings.depth, DepthMode::Projective { .. }) && m.depth_test != self.shadow_buffer_test()
+    }
+
     pub fn validate(&self) -> Result<(), RenderError> {
         self.settings.validate()?;
         self.camera.validate()?;
@@ -52,8 +71,8 @@ impl<'a> RenderRequest<'a> {
 pub struct DepthMap {
     pub resolution: u32,
     pub depth: Vec<f32>,
-    /// True for `DepthTest::Greater` maps in projective mode, which are stored as 1 − z so that
-    /// every layer is compared with "less" (GL allows one comparison sampler per texture).
+    /// True for maps stored as 1 − z of their own matrix's depth: in projective mode, the maps
+    /// whose depth test is not the buffer's ([`RenderRequest::shadow_buffer_test`]).
     pub reversed: bool,
 }
 

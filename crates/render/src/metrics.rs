@@ -232,6 +232,7 @@ pub(crate) fn compute(
         maps: req.maps.len(),
         adapter: adapter.clone(),
         depth_clamp,
+        shadow_buffer_test: req.shadow_buffer_test(),
         render_ms: t.shadow_ms + t.main_ms,
         shadow_pass_ms: t.shadow_ms,
         main_pass_ms: t.main_ms,

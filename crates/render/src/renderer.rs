@@ -16,7 +16,7 @@ use crate::passes::{Geometry, ALBEDO_FMT, AUX_FMT, COLOR_FMT, DEPTH_FMT, NORMAL_
 use crate::scene::{Scene, Vertex};
 use crate::stats;
 use crate::timer::PhaseTimer;
-use crate::types::{DepthMode, LightSpec};
+use crate::types::{DepthMode, DepthTest, LightSpec};
 use crate::uniforms;
 
 /// Renders one request with a freshly opened adapter chosen by `SHADOWFOCUS_BACKEND`.
@@ -32,6 +32,8 @@ struct ShadowPipelineKey {
     constant: i32,
     slope_bits: u32,
     clamp: bool,
+    /// The buffer is reversed: cleared to 0, compared with "greater" ([`RenderRequest::shadow_buffer_test`]).
+    greater: bool,
 }
 
 /// An open device with compiled pipelines; reuse it across frames.
@@ -47,8 +49,9 @@ pub struct Renderer {
     blur_pipeline: wgpu::RenderPipeline,
     composite_bgl: wgpu::BindGroupLayout,
     composite_pipeline: wgpu::RenderPipeline,
-    /// Bilinear and nearest "less-equal" comparison samplers.
-    samplers: [wgpu::Sampler; 2],
+    /// Bilinear and nearest comparison samplers: "less-equal" ones, then "greater-equal" ones
+    /// for reversed buffers.
+    samplers: [[wgpu::Sampler; 2]; 2],
 }
 
 fn uniform_entry(binding: u32, dynamic: bool) -> wgpu::BindGroupLayoutEntry {
@@ -287,10 +290,8 @@ impl Renderer {
             ],
         });
         let composite_pipeline = fullscreen_pipeline(device, "composite", &post_module, &composite_bgl, "fs_composite", COLOR_FMT);
-        let samplers = [
-            comparison_sampler(device, wgpu::CompareFunction::LessEqual, wgpu::FilterMode::Linear),
-            comparison_sampler(device, wgpu::CompareFunction::LessEqual, wgpu::FilterMode::Nearest),
-        ];
+        let samplers = [wgpu::CompareFunction::LessEqual, wgpu::CompareFunction::GreaterEqual]
+            .map(|compare| [wgpu::FilterMode::Linear, wgpu::FilterMode::Nearest].map(|filter| comparison_sampler(device, compare, filter)));
         if let Some(e) = crate::gpu::block_on(scope.pop()) {
             return Err(RenderError::Gpu(format!("creating pipelines: {e}")));
         }
@@ -324,15 +325,18 @@ impl Renderer {
         let device = &self.gpu.device;
         let (module, layout) = (&self.shadow_module, &self.shadow_layout);
         self.shadow_pipelines.entry(key).or_insert_with(|| {
-            // "Greater" maps are stored as 1 − z (see shadow.wgsl), so every layer uses "less" and a
-            // bias that points away from the light.
+            // Maps whose test is not the buffer's are stored as 1 − z (see shadow.wgsl), so every
+            // layer uses the buffer's comparison, and the bias points away from the light: toward
+            // larger z in a "less" buffer, toward smaller z in a reversed one.
+            let sign = if key.greater { -1 } else { 1 };
             let bias = if key.linear {
                 wgpu::DepthBiasState::default()
             } else {
                 // NOTE: GL has no depth-bias clamp; 0 means "unclamped" on every backend.
-                wgpu::DepthBiasState { constant: key.constant, slope_scale: f32::from_bits(key.slope_bits), clamp: 0.0 }
+                let slope = f32::from_bits(key.slope_bits);
+                wgpu::DepthBiasState { constant: sign * key.constant, slope_scale: sign as f32 * slope, clamp: 0.0 }
             };
-            let compare = wgpu::CompareFunction::Less;
+            let compare = if key.greater { wgpu::CompareFunction::Greater } else { wgpu::CompareFunction::Less };
             let entry = match (key.linear, key.viz) {
                 (false, false) => None,
                 (false, true) => Some("fs_viz"),
@@ -414,12 +418,13 @@ impl Renderer {
         let lin_b = [if linear { lin_mode } else { 0.0 }, lin_const, lin_slope, 0.0];
 
         // The shadow pipeline first: building it borrows self mutably.
-        let key = ShadowPipelineKey { viz: s.save_shadow_maps, linear, constant: bias_c, slope_bits: bias_s.to_bits(), clamp };
+        let greater = req.shadow_buffer_test() == DepthTest::Greater;
+        let key = ShadowPipelineKey { viz: s.save_shadow_maps, linear, constant: bias_c, slope_bits: bias_s.to_bits(), clamp, greater };
         self.shadow_pipeline(key);
         let device = &self.gpu.device;
         let geometry = Geometry::upload(device, scene);
         let shadow = ShadowPass::new(device, &self.shadow_bgl, req, layers, lin_a, lin_b);
-        let depth = DepthLookup { lin_a, lin_b, receiver_plane };
+        let depth = DepthLookup { lin_a, lin_b, receiver_plane, greater };
         let main = GBufferPass::new(device, &self.scene_bgl, &self.samplers, req, depth, &shadow.array_view())?;
         let post = PostPass::new(device, &self.blur_bgl, &self.composite_bgl, req, &main.targets);
 
@@ -452,7 +457,7 @@ impl Renderer {
         }
 
         let t2 = Instant::now();
-        let mut out = read_frame(&self.gpu, req, &main.targets, &shadow, post.blur.is_some(), linear)?;
+        let mut out = read_frame(&self.gpu, req, &main.targets, &shadow, post.blur.is_some())?;
         let readback_ms = t2.elapsed().as_secs_f64() * 1e3;
 
         let t3 = Instant::now();

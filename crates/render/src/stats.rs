@@ -3,7 +3,7 @@
 use serde::Serialize;
 
 use crate::gpu::AdapterSummary;
-use crate::types::RenderSettings;
+use crate::types::{DepthTest, RenderSettings};
 
 /// Screen pixels per shadow texel over the visible receiver pixels that a map covers and that
 /// face the light (elsewhere the shadow term is not visible).
@@ -86,6 +86,8 @@ pub struct RenderMetrics {
     pub adapter: AdapterSummary,
     /// Whether casters in front of a map were clamped rather than clipped.
     pub depth_clamp: bool,
+    /// The shadow depth buffer's comparison: `greater` for a reversed buffer (cleared to 0).
+    pub shadow_buffer_test: DepthTest,
     /// Shadow + main passes, GPU work until idle (fastest of `timing_repeats`).
     pub render_ms: f64,
     pub shadow_pass_ms: f64,

@@ -245,10 +245,11 @@ impl LightSpec {
 }
 
 /// Which depth comparison a shadow map is rendered and sampled with.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum DepthTest {
     /// Smaller z is nearer the light (the usual case).
+    #[default]
     Less,
     /// Larger z is nearer the light (inverted perspective shadow maps: light behind the viewer).
     Greater,

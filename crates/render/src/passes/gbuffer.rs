@@ -8,7 +8,7 @@ use super::{cleared, mat, tex2d, view, Geometry, ALBEDO_FMT, AUX_FMT, COLOR_FMT,
 use crate::error::RenderError;
 use crate::frame::RenderRequest;
 use crate::timer::{PhaseTimer, MAIN_PHASE};
-use crate::types::{DepthTest, Pcf, MAX_MAPS};
+use crate::types::{Pcf, MAX_MAPS};
 use crate::uniforms::{FrameUniform, MapInfo};
 
 /// Constant term of the per-map depth bias, in the map's depth units ([0, 1]): four steps of
@@ -57,6 +57,8 @@ pub(crate) struct DepthLookup {
     pub lin_a: [f32; 4],
     pub lin_b: [f32; 4],
     pub receiver_plane: bool,
+    /// The shadow buffer is reversed ("greater").
+    pub greater: bool,
 }
 
 pub(crate) struct GBufferPass {
@@ -66,11 +68,11 @@ pub(crate) struct GBufferPass {
 }
 
 impl GBufferPass {
-    /// `samplers`: the bilinear and the nearest comparison sampler.
+    /// `samplers`: the bilinear and the nearest comparison sampler, for a \"less\" and a reversed buffer.
     pub fn new(
         device: &wgpu::Device,
         layout: &wgpu::BindGroupLayout,
-        samplers: &[wgpu::Sampler; 2],
+        samplers: &[[wgpu::Sampler; 2]; 2],
         req: &RenderRequest,
         depth: DepthLookup,
         shadow_maps: &wgpu::TextureView,
@@ -84,6 +86,7 @@ impl GBufferPass {
         });
         // The receiver-plane bias compares each texel with its own reference (bilinear weights in
         // the shader), through the nearest sampler.
+        let samplers = &samplers[depth.greater as usize];
         let sampler = if s.pcf == Pcf::Off || depth.receiver_plane { &samplers[1] } else { &samplers[0] };
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("scene"),
@@ -131,7 +134,7 @@ fn frame_uniform(req: &RenderRequest, depth: DepthLookup) -> Result<FrameUniform
     for (i, m) in req.maps.iter().enumerate() {
         maps[i] = MapInfo {
             world_to_clip: mat(m.world_to_clip),
-            split: [m.split[0], m.split[1], if m.depth_test == DepthTest::Greater { 1.0 } else { 0.0 }, 0.0],
+            split: [m.split[0], m.split[1], if req.stores_flipped(m) { 1.0 } else { 0.0 }, if depth.greater { -1.0 } else { 1.0 }],
         };
     }
     let (pcf_mode, pcf_radius) = match s.pcf {

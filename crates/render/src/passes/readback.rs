@@ -8,18 +8,15 @@ use crate::frame::{DepthMap, RenderOutput, RenderRequest};
 use crate::gpu::Gpu;
 use crate::image::Image;
 use crate::stats::RenderMetrics;
-use crate::types::DepthTest;
 
 /// Reads the frame back into a [`RenderOutput`] (no ground truth, default metrics: the
-/// renderer adds both). `blurred`: the shadow term comes from the blur's last target;
-/// `linear`: the maps hold linear depth (never stored reversed).
+/// renderer adds both). `blurred`: the shadow term comes from the blur's last target.
 pub(crate) fn read_frame(
     gpu: &Gpu,
     req: &RenderRequest,
     t: &Targets,
     shadow: &ShadowPass,
     blurred: bool,
-    linear: bool,
 ) -> Result<RenderOutput, RenderError> {
     let device = &gpu.device;
     let (w, h, res) = (req.settings.width, req.settings.height, req.settings.shadow_resolution);
@@ -73,11 +70,7 @@ pub(crate) fn read_frame(
     px.shadow_maps = i_maps
         .iter()
         .enumerate()
-        .map(|(k, &i)| DepthMap {
-            resolution: res,
-            depth: f32s(&data[i]),
-            reversed: req.maps[k].depth_test == DepthTest::Greater && !linear,
-        })
+        .map(|(k, &i)| DepthMap { resolution: res, depth: f32s(&data[i]), reversed: req.stores_flipped(&req.maps[k]) })
         .collect();
     Ok(px)
 }

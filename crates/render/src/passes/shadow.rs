@@ -22,6 +22,8 @@ pub(crate) struct ShadowPass {
     bind_group: wgpu::BindGroup,
     layer_views: Vec<wgpu::TextureView>,
     viz_views: Vec<wgpu::TextureView>,
+    /// The farthest depth: 1, or 0 in a reversed buffer.
+    clear: f32,
 }
 
 impl ShadowPass {
@@ -52,7 +54,7 @@ impl ShadowPass {
             .maps
             .iter()
             .map(|m| {
-                let flip = if m.depth_test == DepthTest::Greater { 1.0 } else { 0.0 };
+                let flip = if req.stores_flipped(m) { 1.0 } else { 0.0 };
                 ShadowUniform { world_to_clip: mat(m.world_to_clip), lin_a, lin_b: [lin_b[0], lin_b[1], lin_b[2], flip] }
             })
             .collect();
@@ -77,7 +79,8 @@ impl ShadowPass {
         let n = req.maps.len() as u32;
         let layer_views = (0..n).map(|i| layer_view(&depth, i)).collect();
         let viz_views = viz.as_ref().map(|v| (0..n).map(|i| layer_view(v, i)).collect()).unwrap_or_default();
-        ShadowPass { depth, viz, ranges, bind_group, layer_views, viz_views }
+        let clear = if req.shadow_buffer_test() == DepthTest::Greater { 0.0 } else { 1.0 };
+        ShadowPass { depth, viz, ranges, bind_group, layer_views, viz_views, clear }
     }
 
     /// The depth layers as the array the main pass samples.
@@ -96,7 +99,7 @@ impl ShadowPass {
                 color_attachments: if self.viz_views.is_empty() { &[] } else { &color_atts },
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: layer,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(self.clear), store: wgpu::StoreOp::Store }),
                     stencil_ops: None,
                 }),
                 timestamp_writes: timer.and_then(|t| t.writes(SHADOW_PHASE, i, count)),

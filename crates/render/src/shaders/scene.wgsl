@@ -5,7 +5,8 @@
 
 struct MapInfo {
     world_to_clip: mat4x4<f32>,
-    // x, y = view-depth range served; z = 1 for a "greater" depth test; w unused.
+    // x, y = view-depth range served; z = 1 for a map stored as 1 − z (its test is not the
+    // buffer's); w = +1 for a "less" buffer, −1 for a reversed one.
     split: vec4<f32>,
 };
 
@@ -28,8 +29,9 @@ struct Frame {
 
 @group(0) @binding(0) var<uniform> f: Frame;
 @group(0) @binding(1) var shadow_tex: texture_depth_2d_array;
-// One "less-equal" comparison sampler (bilinear, or nearest when PCF is off): GL allows one
-// sampler per texture in a shader. "Greater" maps are stored as 1 − z, so they compare the same way.
+// One comparison sampler (bilinear, or nearest when PCF is off): GL allows one sampler per
+// texture in a shader. It is "less-equal", or "greater-equal" for a reversed buffer (every map of
+// the frame a "greater" one); a map whose test is not the buffer's is stored as 1 − z.
 @group(0) @binding(2) var cmp: sampler_comparison;
 
 struct VsOut {
@@ -88,7 +90,7 @@ fn depth_rounding(m: mat4x4<f32>, p: vec3<f32>, z: f32, w: f32) -> f32 {
 
 // The per-map depth bias: how the reference depth of a receiver at p (unit normal n) changes per
 // texel of map i on the receiver's own plane, g = (∂r/∂u, ∂r/∂v) in the map's depth units per
-// texel (r = z, or 1 − z for a "greater" map, so that smaller r is nearer the light).
+// texel (r the stored depth: z, or 1 − z for a map stored flipped).
 //
 // Derivation. A receiver plane tilted by θ to the light ray moves along the ray by τ·tan θ
 // across one texel of world size τ (the texel's footprint at the receiver); the map stores the
@@ -109,7 +111,7 @@ fn depth_rounding(m: mat4x4<f32>, p: vec3<f32>, z: f32, w: f32) -> f32 {
 // precision of rasterisation (vertices snap to at least 1/16 texel), and a constant term for the
 // depth format (params2.z). No larger bias is needed, so light leaks at contacts stay within that
 // sixteenth of a texel. The tilt is capped at tan θ = params2.w.
-fn plane_slope(m: mat4x4<f32>, c: vec4<f32>, n: vec3<f32>, greater: bool) -> vec2<f32> {
+fn plane_slope(m: mat4x4<f32>, c: vec4<f32>, n: vec3<f32>, flipped: bool) -> vec2<f32> {
     let k = 1.0 / (c.w * c.w);
     let hr = 0.5 * f.params.y;
     let mx = vec3<f32>(m[0].x, m[1].x, m[2].x);
@@ -120,7 +122,7 @@ fn plane_slope(m: mat4x4<f32>, c: vec4<f32>, n: vec3<f32>, greater: bool) -> vec
     let a = (hr * k) * (mx * c.w - c.x * mw);
     let b = (-hr * k) * (my * c.w - c.y * mw);
     var dz = k * (mz * c.w - c.z * mw);
-    if (greater) {
+    if (flipped) {
         dz = -dz;
     }
     let l = cross(a, b);
@@ -167,18 +169,20 @@ fn shadow_lookup(i: u32, p: vec3<f32>, n: vec3<f32>) -> f32 {
     if (f.lin_b.x > 0.5) {
         r = linear_depth(p);
     } else {
-        let greater = f.maps[i].split.z > 0.5;
-        // NOTE: the clamp keeps receivers on the map's far face (z = 1 up to rounding) from being
-        // compared against the cleared value 1 and shadowing themselves.
+        let flipped = f.maps[i].split.z > 0.5;
+        // Toward the light in stored depth: −1 in a "less" buffer, +1 in a reversed one.
+        let s = -f.maps[i].split.w;
+        // NOTE: the clamp keeps receivers on the map's far face (z = 1 up to rounding, 0 in a
+        // reversed buffer) from being compared against the cleared value and shadowing themselves.
         r = clamp(ndc.z, 0.0, 1.0);
-        if (greater) {
+        if (flipped) {
             r = 1.0 - r;
         }
-        r = r - depth_rounding(m, p, ndc.z, c.w);
+        r = r + s * depth_rounding(m, p, ndc.z, c.w);
         if (f.params2.y > 0.5) {
             // Receiver-plane bias; the sampler is the nearest one (see `Renderer::render`).
-            let g = plane_slope(m, c, n, greater);
-            let bias = f.params2.z + 0.0625 * (abs(g.x) + abs(g.y));
+            let g = plane_slope(m, c, n, flipped);
+            let bias = -s * (f.params2.z + 0.0625 * (abs(g.x) + abs(g.y)));
             let st = uv * res;
             if (mode == 0u) {
                 let centre = floor(st) + 0.5;

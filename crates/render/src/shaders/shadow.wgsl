@@ -6,7 +6,8 @@ struct ShadowUniform {
     //                    mode 2 (point/spot):  length(p - lin_a.xyz) * lin_a.w.
     lin_a: vec4<f32>,
     // x = mode (0 = projective z), y = constant bias, z = slope-scale bias,
-    // w = 1 for a "greater" map, stored as 1 − z under a "less" test (same order).
+    // w = 1 for a map whose depth test is not the buffer's: stored as 1 − z, so that the buffer's
+    // one comparison orders it right.
     lin_b: vec4<f32>,
 };
 
