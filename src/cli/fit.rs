@@ -4,8 +4,8 @@ use super::body::{case_median_ns, median, p99};
 use super::case::{case_lines, parse_case, Case};
 use serde_json::{json, Value};
 use shadowfocus_focus::{
-    camera_from_corners, fit, fit_frustum, fit_map, fit_prepared, ClipConvention, FocusResult, FocusSettings, Method, PreparedView,
-    SplitScheme, SplitSettings,
+    camera_from_corners, fit, fit_frustum, fit_map, fit_prepared, ClipConvention, FocusResult, FocusSettings, Footprint, Method,
+    PreparedView, SplitScheme, SplitSettings,
 };
 use shadowfocus_geom::{Body, Camera, Focuser, Frustum};
 use std::hint::black_box;
@@ -41,6 +41,12 @@ pub struct FitOptions {
     /// Fit each map's depth range to its receivers, for rendering with depth clamping.
     #[arg(long)]
     pub depth_clamp: bool,
+    /// Fit each map's image to its receivers (the visible part of its body), not the whole body.
+    #[arg(long)]
+    pub fit_receivers: bool,
+    /// With --fit-receivers: texels added around the receivers for the lookup filter.
+    #[arg(long, default_value_t = Footprint::DEFAULT_MARGIN_TEXELS)]
+    pub receiver_margin: f64,
 }
 
 impl Default for FitOptions {
@@ -55,6 +61,8 @@ impl Default for FitOptions {
             clip: ClipConvention::WGPU,
             reversed_z: false,
             depth_clamp: false,
+            fit_receivers: false,
+            receiver_margin: Footprint::DEFAULT_MARGIN_TEXELS,
         }
     }
 }
@@ -95,6 +103,7 @@ impl FitOptions {
             stable: self.stable,
             clip: if self.reversed_z { self.clip.reversed() } else { self.clip },
             depth_clamp: self.depth_clamp,
+            footprint: if self.fit_receivers { Footprint::Receivers { margin_texels: self.receiver_margin } } else { Footprint::Body },
             ..FocusSettings::default()
         };
         s.validate().map_err(|e| e.to_string())?;

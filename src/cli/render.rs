@@ -167,6 +167,7 @@ pub fn render_frame(
         "resolution": opts.resolution,
         "reversed_z": settings.clip.reversed_z,
         "depth_clamp": settings.depth_clamp,
+        "fit_receivers": opts.fit_receivers,
         "focusing_us": focusing_us,
         "fit": summary,
     });

@@ -333,6 +333,17 @@ typedef struct SfSettings {
    have `depth_clamp` set. Default 0.
    */
   int depth_clamp;
+  /*
+   Nonzero: fit each map's image to its receivers only, grown by
+   `receiver_margin_texels` on each side for the lookup filter; maps so
+   fitted have `receiver_footprint` set. Default 0.
+   */
+  int receiver_footprint;
+  /*
+   Texels added around the receivers' image, in [0, resolution / 8]
+   (default 2: a bilinear 2×2 lookup and a one-texel kernel).
+   */
+  double receiver_margin_texels;
 } SfSettings;
 
 /*
@@ -531,6 +542,11 @@ typedef struct SfMap {
    DepthClipEnable = FALSE), or casters toward the light are lost.
    */
   int depth_clamp;
+  /*
+   Nonzero: the image holds the receivers (and every body point on a
+   light ray through one), not the whole body.
+   */
+  int receiver_footprint;
 } SfMap;
 
 #ifdef __cplusplus

@@ -5,8 +5,8 @@ use crate::error::Failure;
 use crate::types::*;
 use glam::DVec3;
 use shadowfocus_focus::{
-    ClipConvention, DepthRange, DepthTest, FocusSettings, LightNear, LispsmSettings, MapOrientation, Method, PointMode, PsmSettings,
-    ShadowMap, SplitScheme, SplitSettings, TsmSettings, UvOrigin, WarpDirection,
+    ClipConvention, DepthRange, DepthTest, FocusSettings, Footprint, LightNear, LispsmSettings, MapOrientation, Method, PointMode,
+    PsmSettings, ShadowMap, SplitScheme, SplitSettings, TsmSettings, UvOrigin, WarpDirection,
 };
 use shadowfocus_geom::{Aabb, Camera, Frustum, Light};
 use std::ffi::c_int;
@@ -98,6 +98,11 @@ pub fn settings(s: &SfSettings) -> Result<FocusSettings, Failure> {
         f32_origin: v3(s.f32_origin),
         clip: clip(s),
         depth_clamp: s.depth_clamp != 0,
+        footprint: if s.receiver_footprint != 0 {
+            Footprint::Receivers { margin_texels: s.receiver_margin_texels }
+        } else {
+            Footprint::Body
+        },
     })
 }
 
@@ -158,6 +163,11 @@ pub fn default_settings() -> SfSettings {
         warp_guard: d.warp_guard.into(),
         f32_origin: d.f32_origin.to_array(),
         depth_clamp: d.depth_clamp.into(),
+        receiver_footprint: (d.footprint != Footprint::Body).into(),
+        receiver_margin_texels: match d.footprint {
+            Footprint::Receivers { margin_texels } => margin_texels,
+            Footprint::Body => Footprint::DEFAULT_MARGIN_TEXELS,
+        },
     }
 }
 
@@ -193,5 +203,6 @@ pub fn map(m: &ShadowMap) -> SfMap {
         skipped: m.skipped().0,
         body_vertex_count: m.body().vertices().len() as u32,
         depth_clamp: f.depth_clamp.into(),
+        receiver_footprint: (f.footprint != Footprint::Body).into(),
     }
 }

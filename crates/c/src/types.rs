@@ -265,6 +265,13 @@ pub struct SfSettings {
     /// lit part of its body) and render with depth clamping; maps so fitted
     /// have `depth_clamp` set. Default 0.
     pub depth_clamp: c_int,
+    /// Nonzero: fit each map's image to its receivers only, grown by
+    /// `receiver_margin_texels` on each side for the lookup filter; maps so
+    /// fitted have `receiver_footprint` set. Default 0.
+    pub receiver_footprint: c_int,
+    /// Texels added around the receivers' image, in [0, resolution / 8]
+    /// (default 2: a bilinear 2×2 lookup and a one-texel kernel).
+    pub receiver_margin_texels: f64,
 }
 
 /// One fitted shadow map.
@@ -330,4 +337,7 @@ pub struct SfMap {
     /// clamping (wgpu unclipped_depth, Vulkan depthClamp, D3D
     /// DepthClipEnable = FALSE), or casters toward the light are lost.
     pub depth_clamp: c_int,
+    /// Nonzero: the image holds the receivers (and every body point on a
+    /// light ray through one), not the whole body.
+    pub receiver_footprint: c_int,
 }

@@ -1,13 +1,13 @@
 //! One frame: splits, bodies, maps, plan.
 
-use crate::clamp::clamp_depths;
 use crate::cone::turn_into_cone;
 use crate::error::FocusError;
 use crate::frame::{perpendicular_hint, tangent_frame};
 use crate::methods::{fit_body, light_point, Fitted, SplitView};
 use crate::project::texel_size;
+use crate::receivers::fit_receivers;
 use crate::result::{CubeFace, FocusResult, MapFit, MapState, Notes, ShadowMap, Skipped};
-use crate::settings::{FocusSettings, Method, PointMode};
+use crate::settings::{FocusSettings, Footprint, Method, PointMode};
 use crate::splits::split_depths;
 use crate::MAX_SPLITS;
 use glam::{DMat4, DVec3, Mat4};
@@ -152,6 +152,21 @@ impl PreparedView {
         }
         &self.depths[..=self.splits]
     }
+
+    /// Split `i`'s view frustum (`None` for a split without depth).
+    pub(crate) fn frustum(&self, i: usize) -> Option<&Frustum> {
+        self.frusta.get(i).and_then(Option::as_ref)
+    }
+
+    /// Split `i`'s view-depth range.
+    pub(crate) fn split_range(&self, i: usize) -> [f64; 2] {
+        [self.depths[i], self.depths[i + 1]]
+    }
+
+    /// The camera's unit view direction.
+    pub(crate) fn forward(&self) -> DVec3 {
+        self.basis.forward
+    }
 }
 
 /// [`fit`] for a view prepared by [`PreparedView::new`] or
@@ -197,8 +212,8 @@ pub fn fit_prepared(view: &PreparedView, light: &Light, scene: &Aabb, out: &mut 
         let sub = Camera { near: range[0], far: range[1], ..view.camera };
         fit_split(out, &SplitView { camera: &sub, basis: view.basis, settings: &view.settings }, frustum, light, &scene, i)?;
     }
-    if view.settings.depth_clamp {
-        clamp_depths(out, &view.frusta, &scene, &view.settings)?;
+    if view.settings.depth_clamp || view.settings.footprint != Footprint::Body {
+        fit_receivers(out, view, &scene)?;
     }
     plan(out, &view.settings, light, &scene);
     Ok(())
@@ -389,6 +404,7 @@ fn map_fit(sv: &SplitView, light: &Light, f: &Fitted) -> MapFit {
         psm_shift: f.psm_shift,
         clip: sv.settings.clip,
         depth_clamp: false,
+        footprint: Footprint::Body,
     }
 }
 
@@ -410,11 +426,12 @@ pub(crate) fn f32_matrix(m: &DMat4, origin: DVec3) -> Mat4 {
 /// point light must not lie in the body (pass the spot that truncates it).
 pub fn fit_map(camera: &Camera, light: &Light, body: &Body, settings: &FocusSettings) -> Result<MapFit, FocusError> {
     settings.validate()?;
+    let no_box = "fit_map has no scene box to find the receivers in (fit, fit_prepared and fit_frustum have)";
     if settings.depth_clamp {
-        return Err(FocusError::InvalidSettings {
-            what: "depth_clamp",
-            reason: "fit_map has no scene box to find the receivers in (fit, fit_prepared and fit_frustum have)",
-        });
+        return Err(FocusError::InvalidSettings { what: "depth_clamp", reason: no_box });
+    }
+    if settings.footprint != Footprint::Body {
+        return Err(FocusError::InvalidSettings { what: "footprint", reason: no_box });
     }
     let basis = camera.basis()?;
     if body.is_empty() {

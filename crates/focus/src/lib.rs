@@ -90,7 +90,6 @@
 #![deny(missing_docs)]
 
 mod camera;
-mod clamp;
 pub mod clip;
 mod cone;
 mod cull;
@@ -102,6 +101,7 @@ mod light_frame;
 mod methods;
 mod predict;
 mod project;
+mod receivers;
 mod result;
 #[cfg(feature = "serde")]
 mod serde_float;
@@ -117,8 +117,8 @@ pub use fit::{fit, fit_frustum, fit_map, fit_prepared, PreparedView};
 pub use frame::S0 as ORIENTATION_BLEND_SIN;
 pub use result::{CubeFace, DepthTest, FocusResult, MapFit, MapState, Notes, ShadowMap, Skipped};
 pub use settings::{
-    FocusSettings, LightNear, LispsmSettings, MapOrientation, Method, PointMode, PsmSettings, SplitScheme, SplitSettings, TsmSettings,
-    WarpDirection,
+    FocusSettings, Footprint, LightNear, LispsmSettings, MapOrientation, Method, PointMode, PsmSettings, SplitScheme, SplitSettings,
+    TsmSettings, WarpDirection,
 };
 pub use splits::{clip_depth, split_depths};
 

@@ -283,6 +283,17 @@ pub(crate) struct Cropped {
 /// f32 cannot even keep the sign of `w` (`e_w ≥ W` for positions that far
 /// from the origin) only the f64 guarantee is kept and `f32_exact` is false.
 pub(crate) fn crop(m: &DMat4, pts: &[DVec3], origin: DVec3, clip: ClipConvention) -> Option<Cropped> {
+    crop_grown(m, pts, origin, clip, 1.0)
+}
+
+/// [`crop`] with the image (`x`, `y`) grown by the factor `grow ≥ 1` about
+/// its centre, so that the points fill only `[−1/grow, 1/grow]²` of it.
+///
+/// NOTE: `fl(half · grow) ≥ half` for `grow ≥ 1` (rounding is monotone), so
+/// growing never loses a point; `grow = 1` leaves `crop`'s result bit for
+/// bit.
+pub(crate) fn crop_grown(m: &DMat4, pts: &[DVec3], origin: DVec3, clip: ClipConvention, grow: f64) -> Option<Cropped> {
+    debug_assert!(grow >= 1.0);
     let (centre, mut half) = image_box(m, pts)?;
     let (x, y, z, w) = (m.row(0), m.row(1), m.row(2), m.row(3));
     let centred = [x - w * centre.x, y - w * centre.y, z - w * centre.z, w];
@@ -338,6 +349,8 @@ pub(crate) fn crop(m: &DMat4, pts: &[DVec3], origin: DVec3, clip: ClipConvention
     }
     // A few ulps more: covers the rounding of the quantities just computed.
     half *= 1.0 + 4.0 * U32;
+    half.x *= grow;
+    half.y *= grow;
     // NOTE: rows scaled by reciprocals, three divisions instead of twelve:
     // each entry is then rounded twice (2u₆₄), still within K's budget
     // (entry 2u + position u + dot product 4u ≤ 8u).

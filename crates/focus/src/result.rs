@@ -2,7 +2,7 @@
 //! saying what the frame skipped and where it fell back.
 
 use crate::clip::ClipConvention;
-use crate::settings::Method;
+use crate::settings::{Footprint, Method};
 use crate::{MAX_MAPS, MAX_SPLITS};
 use glam::{DMat4, Mat4};
 use shadowfocus_geom::{Body, Focuser, Light};
@@ -89,7 +89,8 @@ impl CubeFace {
 /// `w`, `x, y ∈ [−1, 1]` and depth `z` in the convention's range, `[0, 1]`
 /// or `[−1, 1]`. Every vertex of the map's body lies in the clip volume
 /// `w > 0, −w ≤ x, y ≤ w, z_min·w ≤ z ≤ w` (`z_min` =
-/// [`ClipConvention::depth_min`]).
+/// [`ClipConvention::depth_min`]) — of its receivers only, where `footprint`
+/// or `depth_clamp` says the map was fitted to them.
 /// `clip_from_world_f32` is `clip_from_world · translate(f32_origin)` in
 /// f32: applied in f32 arithmetic to a vertex's position relative to
 /// [`crate::FocusSettings::f32_origin`], rounded to f32, it keeps the vertex
@@ -131,6 +132,12 @@ pub struct MapFit {
     /// clamping (wgpu `unclipped_depth`, Vulkan `depthClamp`, Direct3D
     /// `DepthClipEnable = false`), or casters toward the light are lost.
     pub depth_clamp: bool,
+    /// What the image is fitted to ([`crate::FocusSettings::footprint`]).
+    /// With [`crate::Footprint::Receivers`] the clip volume holds the
+    /// receivers and every body point on a light ray through one; body
+    /// vertices elsewhere fall outside `x, y ∈ [−1, 1]` (still inside the
+    /// depth range unless `depth_clamp`).
+    pub footprint: Footprint,
 }
 
 impl MapFit {
@@ -149,6 +156,7 @@ impl MapFit {
             psm_shift: 0.0,
             clip,
             depth_clamp: false,
+            footprint: Footprint::Body,
         }
     }
 

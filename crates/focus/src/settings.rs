@@ -199,6 +199,33 @@ impl Default for LightNear {
     }
 }
 
+/// Which part of each map's body its image (the `x`, `y` extent) is fitted
+/// to. The depth range holds the whole body either way (or only the
+/// receivers, with [`FocusSettings::depth_clamp`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Footprint {
+    /// All of the body `H_i`: every body vertex lies in the map.
+    Body,
+    /// Only the receivers `R_i = V_i ∩ S ∩ L` (the visible part of `H_i`),
+    /// with `margin_texels` texels more on each side for the lookup
+    /// filter's reach (at least the PCF kernel's radius plus one for
+    /// bilinear taps). Every receiver lies in the map, and every point of
+    /// `H_i` on a light ray through a receiver: the casters that can shadow
+    /// it. `0 ≤ margin_texels ≤ resolution / 8`.
+    Receivers {
+        /// Texels added on each side of the receivers' image.
+        margin_texels: f64,
+    },
+}
+
+impl Footprint {
+    /// The margin of a 2×2 bilinear lookup with a one-texel kernel.
+    pub const DEFAULT_MARGIN_TEXELS: f64 = 2.0;
+    /// The receivers with [`Footprint::DEFAULT_MARGIN_TEXELS`].
+    pub const RECEIVERS: Footprint = Footprint::Receivers { margin_texels: Footprint::DEFAULT_MARGIN_TEXELS };
+}
+
 /// Everything a fit needs besides camera, light and scene.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -249,6 +276,10 @@ pub struct FocusSettings {
     /// near end instead of widening it. Maps fitted so say
     /// [`crate::MapFit::depth_clamp`]. Off by default.
     pub depth_clamp: bool,
+    /// What each map's image is fitted to: its whole body (default) or the
+    /// receivers only ([`Footprint`]); maps fitted to the receivers say
+    /// so in [`crate::MapFit::footprint`].
+    pub footprint: Footprint,
 }
 
 impl Default for FocusSettings {
@@ -268,6 +299,7 @@ impl Default for FocusSettings {
             f32_origin: glam::DVec3::ZERO,
             clip: ClipConvention::WGPU,
             depth_clamp: false,
+            footprint: Footprint::Body,
         }
     }
 }
@@ -300,6 +332,17 @@ impl FocusSettings {
                 if !(r.is_finite() && r > 0.0) {
                     return bad("light_near", "Fixed(r) must be finite and positive");
                 }
+            }
+        }
+        if let Footprint::Receivers { margin_texels } = self.footprint {
+            if !(margin_texels >= 0.0 && margin_texels <= self.resolution as f64 / 8.0) {
+                return bad("footprint.margin_texels", "must lie in [0, resolution / 8]");
+            }
+            if self.stable {
+                return bad(
+                    "footprint",
+                    "stable maps keep a fixed, texel-snapped extent; fitting them to the receivers would move it every frame",
+                );
             }
         }
         if !self.f32_origin.is_finite() {

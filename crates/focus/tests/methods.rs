@@ -263,6 +263,10 @@ fn invalid_input_is_a_typed_error() {
         FocusSettings { light_near: LightNear::Auto { fraction: f64::NAN }, ..s },
         FocusSettings { lispsm: LispsmSettings { visible_far: Some(-1.0), ..Default::default() }, ..s },
         FocusSettings { tsm: TsmSettings { focus: 0.0 }, ..s },
+        FocusSettings { footprint: Footprint::Receivers { margin_texels: f64::NAN }, ..s },
+        FocusSettings { footprint: Footprint::Receivers { margin_texels: -1.0 }, ..s },
+        FocusSettings { footprint: Footprint::Receivers { margin_texels: s.resolution as f64 / 8.0 + 1.0 }, ..s },
+        FocusSettings { footprint: Footprint::RECEIVERS, stable: true, ..s },
     ] {
         assert!(matches!(fit(&good, &sun, &scene, &bad, &mut out), Err(FocusError::InvalidSettings { .. })), "{bad:?}");
     }

@@ -368,6 +368,84 @@ proptest! {
         }
     }
 
+    /// Maps fitted to their receivers hold every visible, lit point — inside
+    /// the margin asked for — and every point of the scene on the light ray
+    /// from such a point toward the light (the casters that can shadow it),
+    /// depth included unless the depth is clamped too. Their depth and `w`
+    /// rows are the body fit's own.
+    #[test]
+    fn receiver_footprint_holds_the_receivers_and_their_light_rays((cam, scene, light) in frame_strategy(), s in settings_strategy(), margin in prop_oneof![Just(0.0), Just(2.0), Just(17.5)], clamp in any::<bool>()) {
+        let s = FocusSettings { stable: false, ..s };
+        let r = FocusSettings { footprint: Footprint::Receivers { margin_texels: margin }, depth_clamp: clamp, ..s };
+        let (mut a, mut b) = (FocusResult::new(), FocusResult::new());
+        fit(&cam, &light, &scene, &s, &mut a).map_err(|e| TestCaseError::fail(format!("{e}")))?;
+        fit(&cam, &light, &scene, &r, &mut b).map_err(|e| TestCaseError::fail(format!("{e}")))?;
+        prop_assert_eq!(a.maps().len(), b.maps().len());
+        for (x, y) in a.maps().iter().zip(b.maps()) {
+            prop_assert!(x.is_active() || !y.is_active());
+            if !y.is_active() {
+                continue;
+            }
+            prop_assert_eq!(y.fit.footprint, r.footprint);
+            prop_assert_eq!(y.fit.depth_clamp, clamp);
+            let rows = if clamp { vec![3] } else { vec![2, 3] };
+            for k in rows {
+                prop_assert_eq!(x.fit.clip_from_world.row(k).to_array().map(f64::to_bits), y.fit.clip_from_world.row(k).to_array().map(f64::to_bits), "row {}", k);
+            }
+        }
+        let d = b.split_depths();
+        let basis = cam.basis().unwrap();
+        let t = (0.5 * cam.fovy).tan();
+        let inner = 1.0 - 2.0 * margin / r.resolution as f64;
+        let reach = (scene.max - scene.min).length();
+        for k in 0..64 {
+            let fx = ((k * 37) % 64) as f64 / 63.0 * 2.0 - 1.0;
+            let fy = ((k * 11) % 64) as f64 / 63.0 * 2.0 - 1.0;
+            let z = (cam.near + (cam.far - cam.near) * (k as f64 / 63.0)).clamp(cam.near, cam.far);
+            let p = cam.eye + basis.forward * z + basis.right * (fx * z * t * cam.aspect * 0.999) + basis.up * (fy * z * t * 0.999);
+            let lit = |q: DVec3| match light { Light::Spot { frustum, .. } => frustum.contains(q), _ => true };
+            if !scene.contains(p) || !lit(p) {
+                continue;
+            }
+            let i = (0..s.splits.count).find(|&i| d[i] <= z && z <= d[i + 1]).unwrap();
+            let maps: Vec<&ShadowMap> = b.maps().iter().filter(|m| m.split == i && m.is_active()).collect();
+            let near_light = |q: DVec3| match light { Light::Point { position } => maps.iter().any(|m| (q - position).length() <= m.light_near), _ => false };
+            if near_light(p) {
+                continue;
+            }
+            // The maps whose receivers p is among: p inside their image
+            // shrunk by the margin (a cube face's neighbour may hold p in
+            // its margin only). NOTE: the margin is exact up to the image's
+            // rounding, a few ulps.
+            let within_margin = |m: &ShadowMap| {
+                let c = m.fit.clip_from_world * p.extend(1.0);
+                inside_map_f64(&m.fit, p) && (c.x / c.w).abs().max((c.y / c.w).abs()) <= inner * (1.0 + 1e-9)
+            };
+            let holding: Vec<&&ShadowMap> = maps.iter().filter(|m| within_margin(m)).collect();
+            prop_assert!(!holding.is_empty(), "receiver {p} at depth {z} outside split {i}'s maps, or within the {margin}-texel margin only");
+            for m in holding {
+                let lp = light_point(&m.light);
+                for j in 1..8 {
+                    let f = j as f64 / 8.0;
+                    let q = match light {
+                        Light::Directional { direction } => p - direction * (f * reach),
+                        Light::Point { position } | Light::Spot { position, .. } => p + (position - p) * f,
+                    };
+                    if !scene.contains(q) || !lit(q) || near_light(q) {
+                        continue;
+                    }
+                    let c = m.fit.clip_from_world * q.extend(1.0);
+                    let drift = ray_drift(&m.fit.clip_from_world, lp, q) + ray_drift(&m.fit.clip_from_world, lp, p) + 1e-9;
+                    prop_assert!(c.w > 0.0 && (c.x / c.w).abs() <= 1.0 + drift && (c.y / c.w).abs() <= 1.0 + drift, "{q} on the light ray from receiver {p} outside map x, y");
+                    if !clamp {
+                        let (zq, z_min) = (c.z / c.w, m.fit.clip.depth_min());
+                        prop_assert!(zq >= z_min - 1e-9 && zq <= 1.0 + 1e-9, "{q} on the light ray from receiver {p} outside the depth range: {zq}");
+                    }
+                }
+            }
+        }
+    }
+
     /// One prepared view serves several lights with exactly the maps that
     /// separate `fit` calls give, or with the same error. The view is
     /// refilled in place from an earlier preparation for another camera and

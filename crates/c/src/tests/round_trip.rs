@@ -3,8 +3,8 @@
 use super::common::*;
 use crate::*;
 use shadowfocus_focus::{
-    caster_planes, cull_casters, fit, ClipConvention, CubeFace, DepthRange, DepthTest, FocusResult, FocusSettings, Method, PointMode,
-    ShadowMap, UvOrigin,
+    caster_planes, cull_casters, fit, ClipConvention, CubeFace, DepthRange, DepthTest, FocusResult, FocusSettings, Footprint, Method,
+    PointMode, ShadowMap, UvOrigin,
 };
 use shadowfocus_geom::{Aabb, Body, Focuser, Frustum};
 use std::ffi::c_int;
@@ -42,16 +42,18 @@ fn assert_same(c: &SfMap, r: &ShadowMap, what: &str) {
     assert_eq!((c.notes, c.skipped), (r.notes().0, r.skipped().0), "{what}: notes and skipped");
     assert_eq!(c.body_vertex_count as usize, r.body().vertices().len(), "{what}: body size");
     assert_eq!(c.depth_clamp != 0, r.fit.depth_clamp, "{what}: depth clamp");
+    assert_eq!(c.receiver_footprint != 0, r.fit.footprint != Footprint::Body, "{what}: receiver footprint");
 }
 
 /// Every combination of the four clip fields (half of them with depth
-/// clamping) gives the maps of `fit` with those settings, bit for bit.
+/// clamping, half with receiver-fitted images, 3 texels of margin) gives
+/// the maps of `fit` with those settings, bit for bit.
 #[test]
 fn every_clip_convention_gives_the_maps_of_fit() {
     let ctx = Ctx::new();
     let mut out = FocusResult::new();
     let mut maps = vec![canary_map(); SF_MAX_MAPS as usize];
-    let (mut greater, mut clamped) = (0, 0);
+    let (mut greater, mut clamped, mut fitted) = (0, 0, 0);
     for bits4 in 0..16 {
         let flag = |b: u32| c_int::from(bits4 & (1 << b) != 0);
         let clip = ClipConvention {
@@ -65,7 +67,10 @@ fn every_clip_convention_gives_the_maps_of_fit() {
             (s.depth_zero_to_one, s.reversed_z, s.uv_origin_top_left, s.clip_y_down) = (flag(0), flag(1), flag(2), flag(3));
             // Half of the conventions also with the depth range fitted to the receivers.
             s.depth_clamp = c_int::from(bits4 % 2 == 1);
-            let rs = FocusSettings { clip, depth_clamp: bits4 % 2 == 1, ..rust_settings(method, 4) };
+            let receivers = bits4 % 4 >= 2;
+            (s.receiver_footprint, s.receiver_margin_texels) = (c_int::from(receivers), 3.0);
+            let footprint = if receivers { Footprint::Receivers { margin_texels: 3.0 } } else { Footprint::Body };
+            let rs = FocusSettings { clip, depth_clamp: bits4 % 2 == 1, footprint, ..rust_settings(method, 4) };
             for light in lights() {
                 let what = format!("{clip:?}, {method:?}, light kind {}", light.kind);
                 fit(&rust_camera(&camera(37)), &rust_light(&light), &rust_scene(), &rs, &mut out).unwrap();
@@ -75,12 +80,14 @@ fn every_clip_convention_gives_the_maps_of_fit() {
                     assert_same(c, r, &format!("{what}, map {i}"));
                     greater += usize::from(c.active != 0 && c.depth_greater != 0);
                     clamped += usize::from(c.depth_clamp != 0);
+                    fitted += usize::from(c.receiver_footprint != 0);
                 }
             }
         }
     }
     assert!(greater > 0, "reversed-Z gave no map the greater test");
     assert!(clamped > 0, "no map was fitted for depth clamping");
+    assert!(fitted > 0, "no map was fitted to its receivers");
 }
 
 /// sf_fit against fit for every method, 1 and 4 splits, each light kind,
