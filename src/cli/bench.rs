@@ -7,7 +7,7 @@ use super::fit::FitOptions;
 use super::render::fit_scene;
 use render::{RenderRequest, Renderer, Scene, ShadowMapSpec};
 use serde_json::{json, Value};
-use shadowfocus_eval::{bound, fixtures, plot, raster, stress, svg, table};
+use shadowfocus_eval::{fixtures, plot, raster, stress, svg, table};
 use shadowfocus_focus::Method;
 use shadowfocus_render as render;
 use std::path::{Path, PathBuf};
@@ -118,8 +118,8 @@ fn measure(renderer: &mut Renderer, scene: &Scene, o: &FitOptions, size: (u32, u
     let active = maps.len();
     let fitted = summary["maps_fitted"].as_u64().unwrap_or(active as u64) as usize;
     let texels = active as f64 * (o.resolution as f64).powi(2);
-    let c = scene.camera;
-    let bound = bound::min_max_aliasing(size.0, size.1, c.fovy, c.near, c.far, texels).unwrap_or(f64::NAN);
+    // The render's own bound: the same texels, image and camera.
+    let bound = m.aliasing.bound;
     let (rate, off) = m.mismatch.map_or((f64::NAN, f64::NAN), |x| (x.rate, x.rate_off_edges));
     Ok(Row {
         scene: scene.name.clone(),
@@ -258,7 +258,7 @@ pub fn run(o: &BenchOptions) -> Result<Value, String> {
     std::fs::write(o.out.join("results.csv"), table::to_csv(&rows)).map_err(|e| e.to_string())?;
     let svgs = plots(&o.out, &rows)?;
     let mut md = format!(
-        "# Run time against error\n\nAdapter: {} ({}, {}). Images {}×{}. Focusing time: median of 7 fits, one thread. Render time: shadow + main pass on this adapter{}. Memory: Depth32Float texels of the active maps. \"×bound\": max aliasing over the least possible max aliasing for the same texel budget (logarithmic parameterisation; `crates/eval/src/bound.rs`).\n\n",
+        "# Run time against error\n\nAdapter: {} ({}, {}). Images {}×{}. Focusing time: median of 7 fits, one thread. Render time: shadow + main pass on this adapter{}. Memory: Depth32Float texels of the active maps. \"×bound\": max aliasing over the least possible max aliasing for the same texel budget (logarithmic parameterisation; `crates/render/src/bound.rs`).\n\n",
         adapter.name,
         adapter.backend,
         adapter.device_type,

@@ -1,8 +1,6 @@
 //! Evaluation harness for shadowfocus: the tables behind its performance
 //! and accuracy claims.
 //!
-//! - [`bound`]: the least maximum perspective aliasing a texel budget allows
-//!   (logarithmic parameterisation), the yardstick for every method.
 //! - [`table`], [`plot`], [`svg`], [`raster`]: rows of the run-time-against-error
 //!   sweep, their CSV and markdown views, Pareto fronts and log–log plots
 //!   (SVG and PNG).
@@ -16,7 +14,6 @@
 //!
 //! The sweep itself (scenes, renderer) is driven by `shadowfocus bench`.
 
-pub mod bound;
 pub mod fixtures;
 pub mod lines;
 pub mod naive;

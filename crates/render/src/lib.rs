@@ -4,7 +4,9 @@
 //! a list of [`ShadowMapSpec`]s (matrix, depth test, split range, casters) produced elsewhere.
 //! The renderer draws the maps into a `Depth32Float` array, shades the scene with per-pixel
 //! split selection and PCF, and reads back per-pixel world position, aliasing and the chosen
-//! split. [`RenderMetrics`] compare every pixel with a CPU ray cast toward the light.
+//! split. [`RenderMetrics`] compare every pixel with a CPU ray cast toward the light, and the
+//! measured aliasing with the least maximum any parameterisation of the same texels reaches
+//! ([`bound`]).
 //!
 //! ```no_run
 //! use shadowfocus_render::*;
@@ -16,6 +18,7 @@
 //! # Ok::<(), RenderError>(())
 //! ```
 
+pub mod bound;
 mod error;
 mod frame;
 mod gltf_scene;

@@ -29,15 +29,19 @@ pub(crate) fn aliasing_stats(req: &RenderRequest, out: &RenderOutput) -> Aliasin
         }
         v.push(e as f64);
     }
+    let s = &req.settings;
+    let texels = req.maps.len() as f64 * s.shadow_resolution as f64 * s.shadow_resolution as f64;
+    let c = &req.camera;
+    let bound = crate::bound::min_max_aliasing(s.width, s.height, c.fovy, c.near, c.far, texels).unwrap_or(f64::NAN);
     if v.is_empty() {
-        return AliasingStats { max: f64::NAN, p95: f64::NAN, mean: f64::NAN, pixels: 0 };
+        return AliasingStats { max: f64::NAN, p95: f64::NAN, mean: f64::NAN, pixels: 0, bound, ratio: f64::NAN };
     }
     let mean = v.iter().sum::<f64>() / v.len() as f64;
     let k = ((v.len() as f64 * 0.95).ceil() as usize).clamp(1, v.len()) - 1;
     let (_, p95, _) = v.select_nth_unstable_by(k, |a, b| a.total_cmp(b));
     let p95 = *p95;
     let max = v.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
-    AliasingStats { max, p95, mean, pixels: v.len() as u64 }
+    AliasingStats { max, p95, mean, pixels: v.len() as u64, bound, ratio: max / bound }
 }
 
 /// Classifies each pixel against the ground truth (which must be present).

@@ -13,6 +13,11 @@ pub struct AliasingStats {
     pub p95: f64,
     pub mean: f64,
     pub pixels: u64,
+    /// The least maximum aliasing any parameterisation of the frame's texels (every map's)
+    /// reaches over the camera's `[near, far]` at this image size ([`crate::bound`]).
+    pub bound: f64,
+    /// `max / bound`: how far the frame is from the ideal parameterisation.
+    pub ratio: f64,
 }
 
 /// Rendered lit/shadowed against the ray-cast ground truth.

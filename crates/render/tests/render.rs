@@ -89,6 +89,11 @@ fn aliasing_matches_the_analytic_footprint_ratio() {
     }
     assert!(out.metrics.coverage.complete);
     assert!((out.metrics.aliasing.mean / expected - 1.0).abs() < 0.02, "{:?}", out.metrics.aliasing);
+    // The logarithmic bound for 512² texels, a 128² image and depths [1, 50]:
+    // sqrt(W·P·ln(f/n)/T) with P = 64 / tan 30°.
+    let a = &out.metrics.aliasing;
+    let bound = (128.0 * (64.0 / 30f64.to_radians().tan()) * 50f64.ln() / (512.0 * 512.0)).sqrt();
+    assert!((a.bound / bound - 1.0).abs() < 1e-12 && (a.ratio - a.max / bound).abs() < 1e-9 * a.ratio, "{a:?}, bound {bound}");
 }
 
 #[test]
