@@ -14,7 +14,7 @@ use std::io::{BufRead, Write};
 /// Method and split choices shared by `fit`, `render` and `demo`.
 #[derive(Clone, Debug, clap::Args)]
 pub struct FitOptions {
-    /// uniform | psm | lispsm | tsm
+    /// uniform | psm | lispsm | tsm | auto (per map, the least predicted aliasing)
     #[arg(long, default_value = "lispsm", value_parser = parse_method)]
     pub method: Method,
     /// Number of parallel splits (1 = a single map).
@@ -84,7 +84,8 @@ pub fn parse_method(s: &str) -> Result<Method, String> {
         "psm" => Ok(Method::Psm),
         "lispsm" => Ok(Method::Lispsm),
         "tsm" => Ok(Method::Tsm),
-        _ => Err(format!("unknown method {s:?}: expected uniform, psm, lispsm or tsm")),
+        "auto" => Ok(Method::Auto),
+        _ => Err(format!("unknown method {s:?}: expected uniform, psm, lispsm, tsm or auto")),
     }
 }
 

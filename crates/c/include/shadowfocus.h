@@ -159,6 +159,11 @@ typedef enum SfMethod {
    Trapezoidal shadow maps.
    */
   SF_METHOD_TSM = 3,
+  /*
+   Per map, the one of the four with the least predicted aliasing (an
+   active map's `method` says which, never this value).
+   */
+  SF_METHOD_AUTO = 4,
 } SfMethod;
 
 /*

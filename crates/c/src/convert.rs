@@ -106,7 +106,7 @@ pub fn settings(s: &SfSettings) -> Result<FocusSettings, Failure> {
     })
 }
 
-const METHODS: [Method; 4] = [Method::Uniform, Method::Psm, Method::Lispsm, Method::Tsm];
+const METHODS: [Method; 5] = [Method::Uniform, Method::Psm, Method::Lispsm, Method::Tsm, Method::Auto];
 
 fn method(m: c_int) -> Result<Method, Failure> {
     pick(m, &METHODS, "settings.method", "SfMethod")

@@ -58,6 +58,9 @@ pub enum SfMethod {
     SF_METHOD_LISPSM = 2,
     /// Trapezoidal shadow maps.
     SF_METHOD_TSM = 3,
+    /// Per map, the one of the four with the least predicted aliasing (an
+    /// active map's `method` says which, never this value).
+    SF_METHOD_AUTO = 4,
 }
 
 /// How the view depth range is cut into parallel splits.

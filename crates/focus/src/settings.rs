@@ -20,6 +20,11 @@ pub enum Method {
     /// Trapezoidal shadow map (trapezoid around the light-space hull, with the
     /// focus point on the 80 % line).
     Tsm,
+    /// Per map, whichever of the four has the least predicted maximum
+    /// aliasing over the split's receivers ([`crate::MapFit::method`] says
+    /// which). With `stable` and a directional light, the stable uniform
+    /// map.
+    Auto,
 }
 
 impl Method {
@@ -30,6 +35,7 @@ impl Method {
             Method::Psm => "psm",
             Method::Lispsm => "lispsm",
             Method::Tsm => "tsm",
+            Method::Auto => "auto",
         }
     }
 }

@@ -99,6 +99,7 @@ fn bound(method: Method) -> f64 {
         Method::Lispsm => 0.4,
         Method::Tsm => 1.0,
         Method::Psm => 1.6,
+        Method::Auto => panic!("auto switches between the methods where their predictions cross: it is not continuous"),
     }
 }
 

@@ -446,6 +446,33 @@ proptest! {
         }
     }
 
+    /// Auto's every map is, bit for bit, the map one of the four methods
+    /// fits for the same body, and says which.
+    #[test]
+    fn auto_picks_one_of_the_four_maps((cam, scene, light) in frame_strategy(), s in settings_strategy()) {
+        let auto = FocusSettings { method: Method::Auto, ..s };
+        let mut a = FocusResult::new();
+        fit(&cam, &light, &scene, &auto, &mut a).map_err(|e| TestCaseError::fail(format!("{e}")))?;
+        let mut fits = Vec::new();
+        for method in [Method::Uniform, Method::Psm, Method::Lispsm, Method::Tsm] {
+            let mut r = FocusResult::new();
+            let mine = FocusSettings { method, ..s };
+            // PSM narrows the visible range only when asked (psm.near/far), so its bodies are Auto's.
+            fit(&cam, &light, &scene, &mine, &mut r).map_err(|e| TestCaseError::fail(format!("{e}")))?;
+            prop_assert_eq!(r.maps().len(), a.maps().len());
+            fits.push(r);
+        }
+        for (i, m) in a.maps().iter().enumerate().filter(|(_, m)| m.is_active()) {
+            prop_assert!(m.fit.method != Method::Auto);
+            let bits = m.fit.clip_from_world.to_cols_array().map(f64::to_bits);
+            let same = fits.iter().any(|r| {
+                let c = &r.maps()[i].fit;
+                c.clip_from_world.to_cols_array().map(f64::to_bits) == bits && c.method == m.fit.method
+            });
+            prop_assert!(same, "map {i} ({:?}) is none of the four methods' maps", m.fit.method);
+        }
+    }
+
     /// One prepared view serves several lights with exactly the maps that
     /// separate `fit` calls give, or with the same error. The view is
     /// refilled in place from an earlier preparation for another camera and

@@ -111,6 +111,7 @@ pub fn rust_settings(method: SfMethod, splits: u32) -> FocusSettings {
         shadowfocus_focus::Method::Psm,
         shadowfocus_focus::Method::Lispsm,
         shadowfocus_focus::Method::Tsm,
+        shadowfocus_focus::Method::Auto,
     ][method as usize];
     let mut s = FocusSettings { method, ..FocusSettings::default() };
     s.splits.count = splits as usize;

@@ -90,7 +90,7 @@ fn invalid_inputs_are_errors_with_messages() {
         ("spot near >= far", Box::new(|_, l, _, _| *l = SfLight { far_dist: 0.5, ..lights()[2] }), "spot light frustum"),
         ("light kind 3", Box::new(|_, l, _, _| l.kind = 3), "light.kind: 3 is not an SfLightKind value"),
         ("light kind -1", Box::new(|_, l, _, _| l.kind = -1), "light.kind: -1 is not an SfLightKind value"),
-        ("method 4", Box::new(|_, _, _, s| s.method = 4), "settings.method: 4 is not an SfMethod value"),
+        ("method 5", Box::new(|_, _, _, s| s.method = 5), "settings.method: 5 is not an SfMethod value"),
         ("method MIN", Box::new(|_, _, _, s| s.method = c_int::MIN), "is not an SfMethod value"),
         ("split scheme 3", Box::new(|_, _, _, s| s.split_scheme = 3), "not an SfSplitScheme value"),
         ("warp direction 2", Box::new(|_, _, _, s| s.lispsm_warp = 2), "not an SfWarpDirection value"),

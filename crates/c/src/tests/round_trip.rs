@@ -9,7 +9,8 @@ use shadowfocus_focus::{
 use shadowfocus_geom::{Aabb, Body, Focuser, Frustum};
 use std::ffi::c_int;
 
-const METHODS: [SfMethod; 4] = [SfMethod::SF_METHOD_UNIFORM, SfMethod::SF_METHOD_PSM, SfMethod::SF_METHOD_LISPSM, SfMethod::SF_METHOD_TSM];
+const METHODS: [SfMethod; 5] =
+    [SfMethod::SF_METHOD_UNIFORM, SfMethod::SF_METHOD_PSM, SfMethod::SF_METHOD_LISPSM, SfMethod::SF_METHOD_TSM, SfMethod::SF_METHOD_AUTO];
 
 fn bits(a: &[f64]) -> Vec<u64> {
     a.iter().map(|x| x.to_bits()).collect()
@@ -32,7 +33,8 @@ fn assert_same(c: &SfMap, r: &ShadowMap, what: &str) {
     assert_eq!(bits(&c.light_projection), bits(&r.light_projection().to_cols_array()), "{what}: light_projection");
     assert_eq!(c.inverted != 0, r.fit.inverted(), "{what}: inverted");
     assert_eq!(bits(&c.texel_size), bits(&r.fit.texel_size), "{what}: texel size");
-    let method = [Method::Uniform, Method::Psm, Method::Lispsm, Method::Tsm][c.method as usize];
+    let method = [Method::Uniform, Method::Psm, Method::Lispsm, Method::Tsm, Method::Auto][c.method as usize];
+    assert!(c.active == 0 || method != Method::Auto, "{what}: an active map's method is the one chosen");
     assert_eq!(method, r.fit.method, "{what}: method");
     assert_eq!(c.split_index as usize, r.split, "{what}: split index");
     let face = usize::try_from(c.cube_face).ok().map(|i| CubeFace::ALL[i]);

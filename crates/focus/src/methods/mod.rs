@@ -10,8 +10,9 @@
 //! One file per construction, named after it: `uniform`, `stable`, `psm`
 //! [PSM02], `lispsm` [LISPSM04, SCH05], `tsm` [TSM04]; `warp` holds what
 //! LiSPSM and TSM share (the light-space frame along the view direction and
-//! the guarded choice of the warp's strength).
+//! the guarded choice of the warp's strength); `auto` chooses among them.
 
+mod auto;
 mod lispsm;
 mod psm;
 mod stable;
@@ -105,8 +106,11 @@ pub(crate) fn fit_body(sv: &SplitView, light: &Light, body: &Body) -> Option<Fit
         },
         Method::Lispsm => lispsm::lispsm(sv, light, body),
         Method::Tsm => tsm::tsm(sv, light, body),
+        // The stable uniform map is the only stable one.
+        Method::Auto if s.stable && directional => stable::stable(sv, light, body),
+        Method::Auto => auto::auto(sv, light, body),
     }?;
-    out.stable_ignored |= s.stable && !(s.method == Method::Uniform && directional);
+    out.stable_ignored |= s.stable && !(matches!(s.method, Method::Uniform | Method::Auto) && directional);
     Some(out)
 }
 

@@ -128,7 +128,7 @@ pub fn light_strategy() -> impl Strategy<Value = Light> {
 }
 
 pub fn method_strategy() -> impl Strategy<Value = Method> {
-    prop_oneof![Just(Method::Uniform), Just(Method::Psm), Just(Method::Lispsm), Just(Method::Tsm)]
+    prop_oneof![Just(Method::Uniform), Just(Method::Psm), Just(Method::Lispsm), Just(Method::Tsm), Just(Method::Auto)]
 }
 
 pub fn settings_strategy() -> impl Strategy<Value = FocusSettings> {
