@@ -130,6 +130,9 @@ fn run(command: Command) -> Result<bool, String> {
             failures(quiet_pipe(cli::body::run(input, BufWriter::new(io::stdout().lock())))?)
         }
         Command::Fit { options, input, bench, phases } => {
+            if options.sdsm {
+                return Err("--sdsm measures the visible depth range on a rendered frame: use it with render, demo or sweep".into());
+            }
             let settings = options.settings()?;
             let input = open(&input).map_err(io_err)?;
             if phases {

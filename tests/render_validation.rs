@@ -275,9 +275,13 @@ fn auto_renders_about_as_well_as_the_best_method() {
             let opts = |method| FitOptions { method, splits, resolution: res, ..FitOptions::default() };
             let single: Vec<RenderMetrics> = methods.iter().map(|m| render(&s, &opts(*m))).collect();
             let auto = render(&s, &opts(Method::Auto));
-            let (best_max, best_p95) = single.iter().fold((f64::INFINITY, f64::INFINITY), |(a, b), m| (a.min(m.aliasing.max), b.min(m.aliasing.p95)));
+            let (best_max, best_p95) =
+                single.iter().fold((f64::INFINITY, f64::INFINITY), |(a, b), m| (a.min(m.aliasing.max), b.min(m.aliasing.p95)));
             let (a, u) = (&auto.aliasing, &single[0].aliasing);
-            eprintln!("{name}/{splits}x{res}: auto max {:.3} p95 {:.3}; best single max {best_max:.3} p95 {best_p95:.3}; uniform {:.3} {:.3}", a.max, a.p95, u.max, u.p95);
+            eprintln!(
+                "{name}/{splits}x{res}: auto max {:.3} p95 {:.3}; best single max {best_max:.3} p95 {best_p95:.3}; uniform {:.3} {:.3}",
+                a.max, a.p95, u.max, u.p95
+            );
             assert!(a.max <= 1.1 * u.max && a.p95 <= 1.1 * u.p95, "{name}/{splits}x{res}: auto {a:?} against uniform {u:?}");
             let mm = auto.mismatch.unwrap();
             assert!(mm.rate_adequate <= ADEQUATE_LIMIT, "{name}/{splits}x{res}: {mm:?}");

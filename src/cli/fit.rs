@@ -47,6 +47,10 @@ pub struct FitOptions {
     /// With --fit-receivers: texels added around the receivers for the lookup filter.
     #[arg(long, default_value_t = Footprint::DEFAULT_MARGIN_TEXELS)]
     pub receiver_margin: f64,
+    /// Fit to the visible depth range of the frame, reduced from a depth pre-pass
+    /// (sample-distribution shadow maps; rendering commands only).
+    #[arg(long)]
+    pub sdsm: bool,
 }
 
 impl Default for FitOptions {
@@ -63,6 +67,7 @@ impl Default for FitOptions {
             depth_clamp: false,
             fit_receivers: false,
             receiver_margin: Footprint::DEFAULT_MARGIN_TEXELS,
+            sdsm: false,
         }
     }
 }

@@ -86,6 +86,58 @@ pub fn fit_frame(scene: &Scene, frame: &Frame, aspect: f64, settings: &FocusSett
     Ok((specs, focusing_us, summary))
 }
 
+/// A render of `specs` in `frame` at `size`, maps of `resolution`² texels.
+fn request<'a>(
+    scene: &'a Scene,
+    frame: &Frame,
+    specs: &'a [ShadowMapSpec],
+    size: (u32, u32),
+    resolution: u32,
+    settings: &FocusSettings,
+) -> RenderRequest<'a> {
+    let mut req = RenderRequest::new(scene, specs);
+    req.camera = frame.camera;
+    req.light = frame.light;
+    req.settings.width = size.0;
+    req.settings.height = size.1;
+    req.settings.shadow_resolution = resolution;
+    req.settings.depth_clamp = settings.depth_clamp;
+    req
+}
+
+/// The view depths `[z_min, z_max]` of every pixel that sees geometry,
+/// reduced from a pre-pass of the same frame (sample-distribution shadow
+/// maps [SDSM10]: the hint of `FocusSettings::visible_depth`); `None` when
+/// no pixel does.
+///
+/// NOTE: the main pass computes a pixel's depth in f32 from f32 positions,
+/// a few ulps of |eye| + depth off the f64 depth of the same position: the
+/// range is widened by 2⁻¹⁶ of that magnitude, far above those ulps.
+fn visible_depth(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    frame: &Frame,
+    settings: &FocusSettings,
+    size: (u32, u32),
+) -> Result<Option<[f64; 2]>, String> {
+    let aspect = size.0 as f64 / size.1 as f64;
+    let (specs, _, _) = fit_frame(scene, frame, aspect, settings)?;
+    let mut req = request(scene, frame, &specs, size, 64, settings);
+    (req.settings.ground_truth, req.settings.save_shadow_maps) = (false, false);
+    let out = renderer.render(&req).map_err(|e| e.to_string())?;
+    let c = &frame.camera;
+    let forward = c.forward.normalize();
+    let (lo, hi) = out.world.iter().filter(|w| w[3] != 0.0).fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), w| {
+        let z = (glam::DVec3::new(w[0] as f64, w[1] as f64, w[2] as f64) - c.eye).dot(forward);
+        (lo.min(z), hi.max(z))
+    });
+    if !(lo <= hi) {
+        return Ok(None);
+    }
+    let slack = (c.eye.length() + hi.abs()) * (1.0 / 65536.0);
+    Ok(Some([lo - slack, hi + slack]))
+}
+
 /// max − min of the clip depth z / w of `points` under `clip_from_world`.
 fn depth_span(clip_from_world: &glam::DMat4, points: &[glam::DVec3]) -> f64 {
     let (lo, hi) = points.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
@@ -132,7 +184,9 @@ pub fn render_frame(
     size: (u32, u32),
     maps: bool,
 ) -> Result<(render::RenderOutput, Value), String> {
-    let settings = opts.settings()?;
+    let mut settings = opts.settings()?;
+    let sdsm = if opts.sdsm { visible_depth(renderer, scene, frame, &settings, size)? } else { None };
+    settings.visible_depth = sdsm;
     // NOTE: the renderer is wgpu: clip depth in [0, 1] (reversed-Z maps
     // render through their greater test), and clamping where the adapter
     // has it. Anything else would render wrong shadows, so it is refused.
@@ -148,17 +202,11 @@ pub fn render_frame(
     // rounding error above 1.
     let utilisation: Vec<f64> =
         summary["utilisation"].as_array().map_or(Vec::new(), |a| a.iter().filter_map(Value::as_f64).map(|u| u.clamp(0.0, 1.0)).collect());
-    let mut req = RenderRequest::new(scene, &specs);
+    let mut req = request(scene, frame, &specs, size, opts.resolution, &settings);
     if utilisation.len() == specs.len() {
         req.utilisation = &utilisation;
     }
-    req.camera = frame.camera;
-    req.light = frame.light;
     req.settings.save_shadow_maps = maps;
-    req.settings.width = size.0;
-    req.settings.height = size.1;
-    req.settings.shadow_resolution = opts.resolution;
-    req.settings.depth_clamp = settings.depth_clamp;
     let out = renderer.render(&req).map_err(|e| e.to_string())?;
     let extra = json!({
         "method": opts.method.name(),
@@ -168,6 +216,7 @@ pub fn render_frame(
         "reversed_z": settings.clip.reversed_z,
         "depth_clamp": settings.depth_clamp,
         "fit_receivers": opts.fit_receivers,
+        "visible_depth": sdsm,
         "focusing_us": focusing_us,
         "fit": summary,
     });

@@ -349,6 +349,16 @@ typedef struct SfSettings {
    (default 2: a bilinear 2×2 lookup and a one-texel kernel).
    */
   double receiver_margin_texels;
+  /*
+   The view depths [min, max] of the samples this frame shades (from
+   the depth pre-pass, sample-distribution shadow maps): the fit covers
+   only that slab of the view. Both 0: not set (default).
+   */
+  double visible_depth_min;
+  /*
+   See `visible_depth_min`.
+   */
+  double visible_depth_max;
 } SfSettings;
 
 /*

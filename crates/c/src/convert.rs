@@ -103,6 +103,7 @@ pub fn settings(s: &SfSettings) -> Result<FocusSettings, Failure> {
         } else {
             Footprint::Body
         },
+        visible_depth: (s.visible_depth_min != 0.0 || s.visible_depth_max != 0.0).then_some([s.visible_depth_min, s.visible_depth_max]),
     })
 }
 
@@ -168,6 +169,8 @@ pub fn default_settings() -> SfSettings {
             Footprint::Receivers { margin_texels } => margin_texels,
             Footprint::Body => Footprint::DEFAULT_MARGIN_TEXELS,
         },
+        visible_depth_min: d.visible_depth.map_or(0.0, |r| r[0]),
+        visible_depth_max: d.visible_depth.map_or(0.0, |r| r[1]),
     }
 }
 

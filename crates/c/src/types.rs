@@ -275,6 +275,12 @@ pub struct SfSettings {
     /// Texels added around the receivers' image, in [0, resolution / 8]
     /// (default 2: a bilinear 2×2 lookup and a one-texel kernel).
     pub receiver_margin_texels: f64,
+    /// The view depths [min, max] of the samples this frame shades (from
+    /// the depth pre-pass, sample-distribution shadow maps): the fit covers
+    /// only that slab of the view. Both 0: not set (default).
+    pub visible_depth_min: f64,
+    /// See `visible_depth_min`.
+    pub visible_depth_max: f64,
 }
 
 /// One fitted shadow map.

@@ -287,10 +287,18 @@ fn slice(view: &Frustum, camera: &Camera, basis: &CameraBasis, range: [f64; 2], 
     Ok(Frustum::from_corners(out)?)
 }
 
-/// The camera whose depth range is fitted: for PSM, narrowed to the
-/// engine's tightened visible range (see `PsmSettings`).
+/// The camera whose depth range is fitted: narrowed to the visible depth
+/// range where the engine gives one ([`FocusSettings::visible_depth`]),
+/// and for PSM to its own tightened range (see `PsmSettings`).
 fn visible_range(camera: &Camera, settings: &FocusSettings) -> Result<Camera, FocusError> {
     let mut cam = *camera;
+    if let Some([lo, hi]) = settings.visible_depth {
+        cam.near = cam.near.max(lo);
+        cam.far = cam.far.min(hi);
+        if !(cam.near < cam.far) {
+            return Err(FocusError::InvalidSettings { what: "visible_depth", reason: "leaves no depth range inside the camera's" });
+        }
+    }
     if settings.method == Method::Psm {
         cam.near = cam.near.max(settings.psm.near.unwrap_or(cam.near));
         cam.far = cam.far.min(settings.psm.far.unwrap_or(cam.far));

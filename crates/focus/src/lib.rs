@@ -108,6 +108,7 @@ mod serde_float;
 mod settings;
 mod split_view;
 mod splits;
+mod visible_depth;
 
 pub use camera::{camera_from_corners, RecoveredCamera};
 pub use clip::{ClipConvention, DepthRange, UvOrigin};
@@ -121,6 +122,7 @@ pub use settings::{
     TsmSettings, WarpDirection,
 };
 pub use splits::{clip_depth, split_depths};
+pub use visible_depth::visible_depth_after_motion;
 
 /// Most parallel splits.
 pub const MAX_SPLITS: usize = 8;

@@ -286,6 +286,12 @@ pub struct FocusSettings {
     /// receivers only ([`Footprint`]); maps fitted to the receivers say
     /// so in [`crate::MapFit::footprint`].
     pub footprint: Footprint,
+    /// The view depths `[z_min, z_max]` of the samples the frame shades
+    /// (read back from its depth pre-pass), when the engine knows them: the
+    /// fit then covers only `[max(near, z_min), min(far, z_max)]`, its splits
+    /// placed over that slab [SDSM10]. Every shaded receiver must lie in it
+    /// (see [`crate::visible_depth_after_motion`] for a range one frame old).
+    pub visible_depth: Option<[f64; 2]>,
 }
 
 impl Default for FocusSettings {
@@ -306,6 +312,7 @@ impl Default for FocusSettings {
             clip: ClipConvention::WGPU,
             depth_clamp: false,
             footprint: Footprint::Body,
+            visible_depth: None,
         }
     }
 }
@@ -349,6 +356,11 @@ impl FocusSettings {
                     "footprint",
                     "stable maps keep a fixed, texel-snapped extent; fitting them to the receivers would move it every frame",
                 );
+            }
+        }
+        if let Some([lo, hi]) = self.visible_depth {
+            if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+                return bad("visible_depth", "must be finite with z_min < z_max");
             }
         }
         if !self.f32_origin.is_finite() {

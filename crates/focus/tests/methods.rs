@@ -267,6 +267,9 @@ fn invalid_input_is_a_typed_error() {
         FocusSettings { footprint: Footprint::Receivers { margin_texels: -1.0 }, ..s },
         FocusSettings { footprint: Footprint::Receivers { margin_texels: s.resolution as f64 / 8.0 + 1.0 }, ..s },
         FocusSettings { footprint: Footprint::RECEIVERS, stable: true, ..s },
+        FocusSettings { visible_depth: Some([2.0, 1.0]), ..s },
+        FocusSettings { visible_depth: Some([f64::NAN, 1.0]), ..s },
+        FocusSettings { visible_depth: Some([good.far + 1.0, good.far + 2.0]), ..s },
     ] {
         assert!(matches!(fit(&good, &sun, &scene, &bad, &mut out), Err(FocusError::InvalidSettings { .. })), "{bad:?}");
     }

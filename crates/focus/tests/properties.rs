@@ -446,6 +446,32 @@ proptest! {
         }
     }
 
+    /// A visible depth range narrows the camera and nothing else: the fit
+    /// equals, bit for bit, the fit of the camera with that near and far
+    /// (which `conservative_and_covering` checks), and its splits lie in it.
+    #[test]
+    fn visible_depth_fits_the_narrowed_camera((cam, scene, light) in frame_strategy(), s in settings_strategy(), a in 0.0..1.0f64, b in 0.0..1.0f64) {
+        let (a, b) = (a.min(b), a.max(b));
+        let z = |t: f64| cam.near + (cam.far - cam.near) * t;
+        prop_assume!(z(a) < z(b));
+        let hinted = FocusSettings { visible_depth: Some([z(a), z(b)]), ..s };
+        let narrowed = Camera { near: z(a).max(cam.near), far: z(b).min(cam.far), ..cam };
+        let (mut x, mut y) = (FocusResult::new(), FocusResult::new());
+        let rx = fit(&cam, &light, &scene, &hinted, &mut x);
+        let ry = fit(&narrowed, &light, &scene, &s, &mut y);
+        prop_assert_eq!(rx.is_ok(), ry.is_ok(), "{:?} vs {:?}", rx, ry);
+        if rx.is_err() {
+            return Ok(());
+        }
+        prop_assert_eq!(x.split_depths(), y.split_depths());
+        prop_assert!(x.split_depths().iter().all(|d| (narrowed.near..=narrowed.far).contains(d)));
+        prop_assert_eq!(x.maps().len(), y.maps().len());
+        for (p, q) in x.maps().iter().zip(y.maps()) {
+            prop_assert_eq!(p.fit.clip_from_world.to_cols_array().map(f64::to_bits), q.fit.clip_from_world.to_cols_array().map(f64::to_bits));
+            prop_assert_eq!(p.body().vertices(), q.body().vertices());
+        }
+    }
+
     /// Auto's every map is, bit for bit, the map one of the four methods
     /// fits for the same body, and says which.
     #[test]

@@ -103,6 +103,11 @@ fn invalid_inputs_are_errors_with_messages() {
         ("NaN f32 origin", Box::new(|_, _, _, s| s.f32_origin[0] = f64::NAN), "invalid setting f32_origin"),
         ("negative psm near", Box::new(|_, _, _, s| s.psm_near = -1.0), "invalid setting psm.near"),
         ("NaN light_near_fixed", Box::new(|_, _, _, s| s.light_near_fixed = f64::NAN), "invalid setting light_near"),
+        (
+            "visible depth 5..1",
+            Box::new(|_, _, _, s| (s.visible_depth_min, s.visible_depth_max) = (5.0, 1.0)),
+            "invalid setting visible_depth",
+        ),
     ];
     for (what, edit, message) in cases {
         let (rc, got) = fit_with(&ctx, edit);
