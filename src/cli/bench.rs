@@ -47,7 +47,7 @@ pub struct BenchOptions {
 const METHODS: [Method; 4] = [Method::Uniform, Method::Psm, Method::Lispsm, Method::Tsm];
 
 fn opts(method: Method, splits: usize, scheme: &str, resolution: u32) -> FitOptions {
-    FitOptions { method, splits, scheme: scheme.into(), resolution, ..FitOptions::default() }
+    FitOptions { method, splits, scheme: Some(scheme.into()), resolution, ..FitOptions::default() }
 }
 
 /// Configuration name: `lispsm`, `pssm4-log-lispsm`.
@@ -55,7 +55,7 @@ pub fn label(o: &FitOptions) -> String {
     if o.splits == 1 {
         o.method.name().to_string()
     } else {
-        format!("pssm{}-{}-{}", o.splits, o.scheme, o.method.name())
+        format!("pssm{}-{}-{}", o.splits, o.scheme_name(), o.method.name())
     }
 }
 
@@ -126,7 +126,7 @@ fn measure(renderer: &mut Renderer, scene: &Scene, o: &FitOptions, size: (u32, u
         config: label(o),
         method: o.method.name().into(),
         splits: o.splits,
-        scheme: if o.splits == 1 { "-".into() } else { o.scheme.clone() },
+        scheme: if o.splits == 1 { "-".into() } else { o.scheme_name().to_string() },
         resolution: o.resolution,
         plan,
         focusing_us,

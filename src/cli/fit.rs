@@ -20,9 +20,10 @@ pub struct FitOptions {
     /// Number of parallel splits (1 = a single map).
     #[arg(long, default_value_t = 1)]
     pub splits: usize,
-    /// uniform | log | practical
-    #[arg(long, default_value = "practical")]
-    pub scheme: String,
+    /// uniform | log | practical (default practical; log with --sdsm, whose tight range the
+    /// logarithmic splits fit [SDSM10])
+    #[arg(long)]
+    pub scheme: Option<String>,
     /// Weight of the logarithmic scheme in the practical one.
     #[arg(long, default_value_t = 0.5)]
     pub lambda: f64,
@@ -58,7 +59,7 @@ impl Default for FitOptions {
         FitOptions {
             method: Method::Lispsm,
             splits: 1,
-            scheme: "practical".into(),
+            scheme: None,
             lambda: 0.5,
             resolution: 1024,
             stable: false,
@@ -95,8 +96,18 @@ pub fn parse_method(s: &str) -> Result<Method, String> {
 }
 
 impl FitOptions {
+    /// The split scheme's name: as given, else `log` with `--sdsm` and
+    /// `practical` without.
+    pub fn scheme_name(&self) -> &str {
+        match &self.scheme {
+            Some(s) => s,
+            None if self.sdsm => "log",
+            None => "practical",
+        }
+    }
+
     pub fn settings(&self) -> Result<FocusSettings, String> {
-        let scheme = match self.scheme.as_str() {
+        let scheme = match self.scheme_name() {
             "uniform" => SplitScheme::Uniform,
             "log" => SplitScheme::Log,
             "practical" => SplitScheme::Practical { lambda: self.lambda },

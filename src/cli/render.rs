@@ -211,7 +211,7 @@ pub fn render_frame(
     let extra = json!({
         "method": opts.method.name(),
         "splits": opts.splits,
-        "scheme": opts.scheme,
+        "scheme": opts.scheme_name(),
         "resolution": opts.resolution,
         "reversed_z": settings.clip.reversed_z,
         "depth_clamp": settings.depth_clamp,

@@ -66,6 +66,10 @@ pub struct SweepOptions {
     /// How many of the worst configurations go on the contact sheet.
     #[arg(long, default_value_t = 8)]
     pub worst: usize,
+    /// Fit every method to the visible depth range of a pre-pass of each frame (splits
+    /// logarithmic over it).
+    #[arg(long)]
+    pub sdsm: bool,
     /// Output folder.
     #[arg(long)]
     pub out: PathBuf,
@@ -78,6 +82,8 @@ pub struct SweepMethod {
     pub name: String,
     pub method: Method,
     pub splits: usize,
+    /// Fit to the visible depth range of a pre-pass (`--sdsm`).
+    pub sdsm: bool,
 }
 
 /// `uniform`, `psm`, `lispsm`, `tsm`, or one of them followed by a split
@@ -98,7 +104,7 @@ pub fn parse_sweep_method(s: &str) -> Result<SweepMethod, String> {
     } else {
         k.parse::<usize>().ok().filter(|k| (1..=16).contains(k)).ok_or_else(|| format!("sweep method {s:?}: split count must be 1–16"))?
     };
-    Ok(SweepMethod { name: if splits == 1 { m.to_string() } else { format!("{m}{splits}") }, method, splits })
+    Ok(SweepMethod { name: if splits == 1 { m.to_string() } else { format!("{m}{splits}") }, method, splits, sdsm: false })
 }
 
 impl SweepMethod {
@@ -106,7 +112,7 @@ impl SweepMethod {
     /// (k splits get resolution/√k per side each: R/2 for four).
     pub fn options(&self, resolution: u32) -> FitOptions {
         let res = if self.splits == 1 { resolution } else { ((resolution as f64 / (self.splits as f64).sqrt()).round() as u32).max(1) };
-        FitOptions { method: self.method, splits: self.splits, resolution: res, ..FitOptions::default() }
+        FitOptions { method: self.method, splits: self.splits, resolution: res, sdsm: self.sdsm, ..FitOptions::default() }
     }
 }
 
@@ -201,7 +207,8 @@ impl SweepPlan {
         }
         let camera = o.camera.map_or(scene.camera, |c| c.resolve(&scene.camera));
         camera.validate().map_err(|e| e.to_string())?;
-        let mut plan = SweepPlan::grid(camera, &o.elevations, &o.azimuths, o.methods.clone(), o.resolution, o.size);
+        let methods = o.methods.iter().map(|m| SweepMethod { sdsm: o.sdsm, ..m.clone() }).collect();
+        let mut plan = SweepPlan::grid(camera, &o.elevations, &o.azimuths, methods, o.resolution, o.size);
         if let Some(l) = o.light {
             let light = l.resolve(&scene.bounds);
             light.validate().map_err(|e| e.to_string())?;

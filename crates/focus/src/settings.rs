@@ -291,6 +291,9 @@ pub struct FocusSettings {
     /// fit then covers only `[max(near, z_min), min(far, z_max)]`, its splits
     /// placed over that slab [SDSM10]. Every shaded receiver must lie in it
     /// (see [`crate::visible_depth_after_motion`] for a range one frame old).
+    /// Pair it with [`SplitScheme::Log`]: over a tight range the logarithmic
+    /// splits are the ones that gain (the practical scheme's uniform part
+    /// lengthens the first split as the near end moves out).
     pub visible_depth: Option<[f64; 2]>,
 }
 
