@@ -265,6 +265,10 @@ pub fn demo(dir: &Path, size: (u32, u32), resolution: u32, scenes: &[String], ov
     // toward the light clamped, beside the plain fit, where the adapter can
     // clamp; the summary says why the column is missing where it cannot.
     let clamping = renderer.adapter().depth_clamp;
+    // The four splits again, fitted to the visible depth range of a
+    // pre-pass with logarithmic splits over it [SDSM10].
+    let pssm = configs.iter().find(|(l, _)| l == "pssm4-lispsm").map(|(_, o)| o.clone()).ok_or("no pssm4-lispsm column")?;
+    configs.push(("pssm4-lispsm-sdsm".into(), FitOptions { sdsm: true, ..pssm }));
     if clamping {
         let lispsm = configs.iter().find(|(l, _)| l == "lispsm").map(|(_, o)| o.clone()).ok_or("no lispsm column")?;
         configs.push(("lispsm-clamped".into(), FitOptions { depth_clamp: true, ..lispsm }));
@@ -287,7 +291,7 @@ pub fn demo(dir: &Path, size: (u32, u32), resolution: u32, scenes: &[String], ov
             rows.push(json!({
                 "scene": name, "config": label, "aliasing": m.aliasing, "mismatch": m.mismatch,
                 "render_ms": m.render_ms, "casters": m.casters,
-                "depth_clamp": m.depth_clamp, "h_depth_span": extra["fit"]["h_depth_span"],
+                "depth_clamp": m.depth_clamp, "h_depth_span": extra["fit"]["h_depth_span"], "visible_depth": extra["visible_depth"],
             }));
             let k = (size.0 / 320).max(1);
             tiles.push((out.color.downscale(k), format!("{name} {label}")));
