@@ -67,6 +67,12 @@ enum Command {
         #[command(flatten)]
         options: cli::sweep::SweepOptions,
     },
+    /// A camera path through a static scene: per-frame metrics and how much the shadows flicker
+    /// (temporal.json, frames.csv, strip.png).
+    Animate {
+        #[command(flatten)]
+        options: cli::animate::AnimateOptions,
+    },
     /// Run time against error: scenes × methods × splits × resolutions, skip plan on/off, numerical stress.
     Bench {
         #[command(flatten)]
@@ -154,6 +160,10 @@ fn run(command: Command) -> Result<bool, String> {
             let mut renderer = shadowfocus_cli::render::Renderer::from_env().map_err(|e| e.to_string())?;
             let result = cli::render::render_frame_to(&mut renderer, &scene, &frame, &options, size, &out)?;
             println!("{}", serde_json::to_string(&result.metrics).map_err(|e| e.to_string())?);
+            Ok(true)
+        }
+        Command::Animate { options } => {
+            println!("{}", cli::animate::animate(&options)?);
             Ok(true)
         }
         Command::Bench { options } => {

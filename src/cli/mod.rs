@@ -1,6 +1,7 @@
 //! Command-line front end: JSON-lines I/O and the render commands around
 //! the library crates.
 
+pub mod animate;
 pub mod bench;
 pub mod body;
 pub use shadowfocus_case as case;

@@ -74,6 +74,12 @@ pub struct DepthMap {
     /// True for maps stored as 1 − z of their own matrix's depth: in projective mode, the maps
     /// whose depth test is not the buffer's ([`RenderRequest::shadow_buffer_test`]).
     pub reversed: bool,
+    /// The map's matrix, depth test and split, as rendered (from its [`ShadowMapSpec`]).
+    pub world_to_clip: glam::Mat4,
+    pub depth_test: DepthTest,
+    pub split: [f32; 2],
+    /// Whether `depth` holds linear light depths ([`DepthMode::Linear`]) instead of z.
+    pub linear: bool,
 }
 
 /// Everything a render produced, per pixel (rows top to bottom) and summarised.

@@ -25,6 +25,7 @@ mod gltf_scene;
 mod gpu;
 mod ground_truth;
 mod image;
+mod lookup;
 mod metrics;
 mod output;
 mod passes;

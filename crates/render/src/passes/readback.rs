@@ -8,6 +8,7 @@ use crate::frame::{DepthMap, RenderOutput, RenderRequest};
 use crate::gpu::Gpu;
 use crate::image::Image;
 use crate::stats::RenderMetrics;
+use crate::types::DepthMode;
 
 /// Reads the frame back into a [`RenderOutput`] (no ground truth, default metrics: the
 /// renderer adds both). `blurred`: the shadow term comes from the blur's last target.
@@ -70,7 +71,18 @@ pub(crate) fn read_frame(
     px.shadow_maps = i_maps
         .iter()
         .enumerate()
-        .map(|(k, &i)| DepthMap { resolution: res, depth: f32s(&data[i]), reversed: req.stores_flipped(&req.maps[k]) })
+        .map(|(k, &i)| {
+            let m = &req.maps[k];
+            DepthMap {
+                resolution: res,
+                depth: f32s(&data[i]),
+                reversed: req.stores_flipped(m),
+                world_to_clip: m.world_to_clip,
+                depth_test: m.depth_test,
+                split: m.split,
+                linear: matches!(req.settings.depth, DepthMode::Linear { .. }),
+            }
+        })
         .collect();
     Ok(px)
 }

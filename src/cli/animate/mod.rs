@@ -1,0 +1,130 @@
+//! `shadowfocus animate`: a camera path through a static scene, rendered
+//! frame by frame, with how much the shadows flicker and crawl.
+//!
+//! - `path`: the camera paths;
+//! - `screen`: where a world point lands in a frame;
+//! - `flicker`: the answers at fixed world points from frame to frame;
+//! - `crawl`: the screen motion of shadow edges beyond the camera's.
+
+mod crawl;
+mod flicker;
+mod path;
+mod screen;
+
+pub use path::{parse_path, path_camera, CameraPath};
+
+use super::fit::FitOptions;
+use super::overrides::Frame;
+use super::render::{frame_inputs, render_frame};
+use render::{contact_sheet, Image, Renderer, Scene};
+use serde_json::{json, Value};
+use shadowfocus_focus::{fit, FocusResult};
+use shadowfocus_render as render;
+use std::path::Path;
+
+/// Every how many pixels of the first frame a probe is taken.
+const PROBE_STRIDE: usize = 7;
+/// Frames in the strip.
+const STRIP_FRAMES: usize = 8;
+
+/// `animate`'s options besides the fit's.
+#[derive(Clone, Debug, clap::Args)]
+pub struct AnimateOptions {
+    /// Built-in scene name or glTF file.
+    #[arg(long)]
+    pub scene: String,
+    /// orbit | walk | turn | zoom
+    #[arg(long, default_value = "orbit", value_parser = parse_path)]
+    pub path: CameraPath,
+    /// Number of frames (at least 2).
+    #[arg(long, default_value_t = 120)]
+    pub frames: usize,
+    /// Image size, WxH.
+    #[arg(long, default_value = "320x180", value_parser = super::render::parse_size)]
+    pub size: (u32, u32),
+    #[command(flatten)]
+    pub fit: FitOptions,
+    /// Output folder: temporal.json, frames.csv, strip.png.
+    #[arg(long)]
+    pub out: std::path::PathBuf,
+}
+
+/// Whether every active map of the frame's fit holds its body (f64, in its
+/// clip convention): `misses` counts the frames where one does not.
+fn maps_hold_their_bodies(scene: &Scene, frame: &Frame, aspect: f64, opts: &FitOptions) -> Result<bool, String> {
+    let (camera, light, bounds) = frame_inputs(scene, frame, aspect)?;
+    let mut result = FocusResult::new();
+    fit(&camera, &light, &bounds, &opts.settings()?, &mut result).map_err(|e| e.to_string())?;
+    Ok(result.maps().iter().filter(|m| m.is_active()).all(|m| {
+        let z_min = m.fit.clip.depth_min();
+        m.body().vertices().iter().all(|p| {
+            let q = m.fit.clip_from_world * p.extend(1.0);
+            q.w > 0.0 && q.x.abs() <= q.w && q.y.abs() <= q.w && q.z >= z_min * q.w && q.z <= q.w
+        })
+    }))
+}
+
+/// Renders the path and writes `temporal.json`, `frames.csv` and `strip.png`
+/// into `out`; returns the summary.
+pub fn animate(o: &AnimateOptions) -> Result<Value, String> {
+    if o.frames < 2 {
+        return Err("--frames: at least 2 frames are needed to compare one with the next".into());
+    }
+    if o.fit.sdsm {
+        // NOTE: --sdsm fits each frame to its own pre-pass; what it does to
+        // stability is a question for a fit that carries state.
+        return Err("animate does not take --sdsm".into());
+    }
+    let scene = render::load_scene(&o.scene).map_err(|e| e.to_string())?;
+    let mut renderer = Renderer::from_env().map_err(|e| e.to_string())?;
+    std::fs::create_dir_all(&o.out).map_err(|e| e.to_string())?;
+    let aspect = o.size.0 as f64 / o.size.1 as f64;
+    let (mut flicker, mut crawl, mut misses) = (None, crawl::Crawl::default(), 0usize);
+    let mut p95s = Vec::new();
+    let mut rows = vec!["frame,aliasing_p95,aliasing_max,mismatch_adequate,probes_seen,maps_hold_h".to_string()];
+    let mut strip = Vec::new();
+    for k in 0..o.frames {
+        let frame = Frame { camera: path_camera(&scene, o.path, k, o.frames), light: scene.light };
+        let (out, _) = render_frame(&mut renderer, &scene, &frame, &o.fit, o.size, true)?;
+        let screen = screen::Screen::new(&out)?;
+        let truth = out.truth.as_ref().ok_or("the render has no ground truth")?;
+        let probes = flicker.get_or_insert_with(|| flicker::Flicker::new(&out, truth, PROBE_STRIDE));
+        let seen = probes.frame(&out, &screen);
+        crawl.frame(&out, &screen);
+        let holds = maps_hold_their_bodies(&scene, &frame, aspect, &o.fit)?;
+        misses += usize::from(!holds);
+        let m = &out.metrics;
+        p95s.push(m.aliasing.p95);
+        let adequate = m.mismatch.map_or(f64::NAN, |x| x.rate_adequate);
+        rows.push(format!("{k},{},{},{adequate},{seen},{holds}", m.aliasing.p95, m.aliasing.max));
+        if k % (o.frames / STRIP_FRAMES).max(1) == 0 && strip.len() < STRIP_FRAMES {
+            strip.push((out.color, format!("frame {k}")));
+        }
+    }
+    let counts = flicker.map(|f| f.counts).unwrap_or_default();
+    let finite: Vec<f64> = p95s.into_iter().filter(|x| x.is_finite()).collect();
+    let summary = json!({
+        "frames": o.frames,
+        "path": o.path.name(),
+        "method": o.fit.method.name(),
+        "splits": o.fit.splits,
+        "stable": o.fit.stable,
+        "flicker": counts.rate(),
+        "flicker_near_edges": counts.rate_near_edges(),
+        "point_frames": counts.compared,
+        "point_frames_near_edges": counts.compared_near_edges,
+        "edge_crawl_px": crawl.rendered_px(),
+        "edge_crawl_truth_px": crawl.truth_px(),
+        "aliasing_p95_mean": finite.iter().sum::<f64>() / finite.len().max(1) as f64,
+        "misses": misses,
+    });
+    let refs: Vec<(&Image, &str)> = strip.iter().map(|(i, l)| (i, l.as_str())).collect();
+    contact_sheet(&refs, 4).save_png(&o.out.join("strip.png")).map_err(|e| e.to_string())?;
+    write(&o.out.join("frames.csv"), &(rows.join("\n") + "\n"))?;
+    write(&o.out.join("temporal.json"), &serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())?)?;
+    Ok(summary)
+}
+
+fn write(path: &Path, text: &str) -> Result<(), String> {
+    std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))
+}

@@ -1,0 +1,68 @@
+//! Temporal stability (llvmpipe in CI): the CPU shadow lookup that
+//! `animate` measures with agrees with the rendered shadows, and stable
+//! uniform maps hold still along a camera path where plain ones flicker.
+
+use glam::DVec3;
+use shadowfocus_cli::cli::animate::{animate, AnimateOptions, CameraPath};
+use shadowfocus_cli::cli::fit::FitOptions;
+use shadowfocus_cli::cli::render::fit_scene;
+use shadowfocus_cli::focus::Method;
+use shadowfocus_cli::render::{builtin_scene, Pcf, RenderRequest, Renderer};
+use std::sync::Mutex;
+
+/// One render at a time: the tests share the machine's cores.
+static GPU: Mutex<()> = Mutex::new(());
+
+#[test]
+fn the_cpu_lookup_agrees_with_the_rendered_shadow() {
+    let _one = GPU.lock().unwrap_or_else(|e| e.into_inner());
+    let mut renderer = Renderer::from_env().expect("a wgpu adapter (llvmpipe on a fresh machine)");
+    for (name, method) in [("forest", Method::Uniform), ("robot-war", Method::Lispsm), ("inverted", Method::Psm)] {
+        let scene = builtin_scene(name).unwrap();
+        let opts = FitOptions { method, ..FitOptions::default() };
+        let (maps, _, _) = fit_scene(&scene, 320.0 / 180.0, &opts.settings().unwrap()).unwrap();
+        let mut req = RenderRequest::new(&scene, &maps);
+        (req.settings.width, req.settings.height, req.settings.pcf) = (320, 180, Pcf::Off);
+        let out = renderer.render(&req).unwrap();
+        let (mut compared, mut differ) = (0u32, 0u32);
+        for i in 0..out.world.len() {
+            let (w, n) = (out.world[i], out.normal[i]);
+            if w[3] != 1.0 || out.split[i] < 0 {
+                continue;
+            }
+            let p = DVec3::new(w[0] as f64, w[1] as f64, w[2] as f64);
+            let Some(lit) = out.lit_at(p, DVec3::new(n[0] as f64, n[1] as f64, n[2] as f64)) else { continue };
+            compared += 1;
+            differ += u32::from(lit != (out.shadow[i] >= 0.5));
+        }
+        // NOTE: the GPU evaluates the same test in f32 from the f32 world
+        // position it interpolated, so a few pixels on shadow edges may fall
+        // on the other side; anything more is a different test.
+        eprintln!("{name}: {differ} of {compared} receiver pixels differ");
+        assert!(compared > 10_000, "{name}: only {compared} receiver pixels found a map");
+        assert!(f64::from(differ) <= 0.005 * f64::from(compared), "{name}: {differ} of {compared} pixels differ");
+    }
+}
+
+fn run(stable: bool, dir: &str) -> serde_json::Value {
+    let fit = FitOptions { method: Method::Uniform, stable, ..FitOptions::default() };
+    let out = std::env::temp_dir().join(format!("shadowfocus-temporal-{}-{dir}", std::process::id()));
+    let o = AnimateOptions { scene: "forest".into(), path: CameraPath::Orbit, frames: 24, size: (320, 180), fit, out: out.clone() };
+    let summary = animate(&o).unwrap();
+    assert!(out.join("strip.png").is_file() && out.join("frames.csv").is_file() && out.join("temporal.json").is_file());
+    std::fs::remove_dir_all(&out).unwrap();
+    summary
+}
+
+#[test]
+fn stable_uniform_maps_hold_still_where_plain_ones_flicker() {
+    let _one = GPU.lock().unwrap_or_else(|e| e.into_inner());
+    let (plain, stable) = (run(false, "plain"), run(true, "stable"));
+    let f = |s: &serde_json::Value, k: &str| s[k].as_f64().unwrap_or_else(|| panic!("{k} missing in {s}"));
+    assert!(f(&plain, "point_frames_near_edges") > 1000.0, "too few probes near edges: {plain}");
+    assert!(f(&plain, "flicker_near_edges") > 0.01, "the plain map's edges should crawl on an orbit: {plain}");
+    assert!(f(&stable, "flicker_near_edges") * 10.0 <= f(&plain, "flicker_near_edges"), "plain {plain}\nstable {stable}");
+    assert!(f(&stable, "flicker") * 10.0 <= f(&plain, "flicker").max(1e-9), "plain {plain}\nstable {stable}");
+    assert_eq!(stable["misses"], 0, "{stable}");
+    assert_eq!(plain["misses"], 0, "{plain}");
+}
