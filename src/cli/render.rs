@@ -73,6 +73,10 @@ pub fn fit_frame(scene: &Scene, frame: &Frame, aspect: f64, settings: &FocusSett
             },
             split: [m.split_range[0] as f32, m.split_range[1] as f32],
             casters: idx[..n].to_vec(),
+            face: match (m.face, m.light) {
+                (Some(f), Light::Spot { position, .. }) => Some(render::CubeFaceSpec { light: position, index: f as u32 }),
+                _ => None,
+            },
         });
     }
     let summary = json!({

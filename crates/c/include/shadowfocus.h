@@ -521,6 +521,9 @@ typedef struct SfMap {
   uint32_t split_index;
   /*
    Cube face 0..5 (+x, -x, +y, -y, +z, -z) of a point light covered as a cube; -1 otherwise.
+   Look a receiver p up in the face of p - light's largest coordinate in magnitude (the
+   first on ties) and its sign, as a cube map chooses: a face's image may reach past its
+   90-degree cone into a neighbour's, but the casters there are in the neighbour's map.
    */
   int cube_face;
   /*

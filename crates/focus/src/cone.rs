@@ -15,6 +15,11 @@
 
 use glam::DVec3;
 
+/// Half-angle margin of cube faces and truncation frusta: the field of view
+/// is widened by 2⁻²⁰ (relative) so that the rounded frusta still overlap;
+/// a rounding allowance, far above the rounding of `tan` and of the corners.
+pub(crate) const CONE_MARGIN: f64 = 1.0 / (1u64 << 20) as f64;
+
 /// Per subset of the four simplex vertices (bit `i`: vertex `i`), its
 /// vertices in increasing order and how many there are.
 const SUBSETS: [([usize; 4], usize); 16] = {

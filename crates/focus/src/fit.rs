@@ -1,22 +1,16 @@
 //! One frame: splits, bodies, maps, plan.
 
-use crate::cone::turn_into_cone;
+use crate::cone::{turn_into_cone, CONE_MARGIN};
 use crate::error::FocusError;
 use crate::frame::{perpendicular_hint, tangent_frame};
 use crate::methods::{fit_body, light_point, Fitted, SplitView};
-use crate::project::texel_size;
+use crate::project::{f32_matrix, texel_size};
 use crate::receivers::fit_receivers;
 use crate::result::{CubeFace, FocusResult, MapFit, MapState, Notes, ShadowMap, Skipped};
 use crate::settings::{FocusSettings, Footprint, Method, PointMode};
-use crate::splits::split_depths;
-use crate::MAX_SPLITS;
-use glam::{DMat4, DVec3, Mat4};
-use shadowfocus_geom::{Aabb, Body, Camera, CameraBasis, Focuser, Frustum, Light, MAX_VERTICES, ROUNDING_ULPS};
-
-/// Half-angle margin of cube faces and truncation frusta: the field of view
-/// is widened by 2⁻²⁰ (relative) so that the rounded frusta still overlap;
-/// a rounding allowance, far above the rounding of `tan` and of the corners.
-const CONE_MARGIN: f64 = 1.0 / (1u64 << 20) as f64;
+use crate::view::PreparedView;
+use glam::DVec3;
+use shadowfocus_geom::{Aabb, Body, Camera, Focuser, Frustum, Light, MAX_VERTICES, ROUNDING_ULPS};
 
 /// Fits the shadow maps of one frame into `out` (no allocation).
 ///
@@ -33,140 +27,6 @@ pub fn fit(camera: &Camera, light: &Light, scene: &Aabb, settings: &FocusSetting
     let mut view = PreparedView::unprepared(camera, settings);
     view.prepare(camera, settings)?;
     fit_prepared(&view, light, scene, out)
-}
-
-/// The camera's side of a frame, prepared once and shared by every light
-/// fitted for that camera: the checked settings, the camera basis, the split
-/// depths and each split's validated frustum.
-///
-/// NOTE: a frustum's exact validation is about a fifth of a one-map fit.
-/// An engine with several shadowed lights, or a camera that did not move
-/// since the last frame, pays it once per view instead of once per light.
-/// The frusta are held inline (about 7 KiB): keep one view and refill it
-/// with [`PreparedView::prepare`] rather than building a new one per frame.
-#[derive(Clone, Debug)]
-pub struct PreparedView {
-    settings: FocusSettings,
-    /// The camera with the visible range the fit uses (see `PsmSettings`).
-    camera: Camera,
-    basis: CameraBasis,
-    depths: [f64; MAX_SPLITS + 1],
-    splits: usize,
-    /// `None` for a split that `delta_bias` left without depth.
-    frusta: [Option<Frustum>; MAX_SPLITS],
-    /// Why the last preparation failed: every fit from the view gives it.
-    failed: Option<FocusError>,
-}
-
-impl PreparedView {
-    /// A view of `camera` with `settings` (see [`PreparedView::prepare`]).
-    pub fn new(camera: &Camera, settings: &FocusSettings) -> Result<PreparedView, FocusError> {
-        let mut view = PreparedView::unprepared(camera, settings);
-        view.prepare(camera, settings)?;
-        Ok(view)
-    }
-
-    /// A view holding no preparation yet, to be filled by `prepare` or
-    /// `prepare_frustum`.
-    fn unprepared(camera: &Camera, settings: &FocusSettings) -> PreparedView {
-        let placeholder = CameraBasis { forward: DVec3::NEG_Z, right: DVec3::X, up: DVec3::Y };
-        PreparedView {
-            settings: *settings,
-            camera: *camera,
-            basis: placeholder,
-            depths: [0.0; MAX_SPLITS + 1],
-            splits: 0,
-            frusta: [None; MAX_SPLITS],
-            failed: None,
-        }
-    }
-
-    /// Keeps the outcome of a preparation: after an error the view holds
-    /// none, and every fit from it gives that error.
-    fn keep(&mut self, prepared: Result<(), FocusError>) -> Result<(), FocusError> {
-        self.failed = prepared.as_ref().err().cloned();
-        if self.failed.is_some() {
-            self.splits = 0;
-        }
-        prepared
-    }
-
-    /// Checks `camera` and `settings` and validates every split's frustum,
-    /// in place (no allocation); the errors are those [`fit`] gives for the
-    /// same camera and settings. After an error the view holds no
-    /// preparation, and [`fit_prepared`] gives that error again.
-    pub fn prepare(&mut self, camera: &Camera, settings: &FocusSettings) -> Result<(), FocusError> {
-        let prepared = self.fill(camera, settings, None);
-        self.keep(prepared)
-    }
-
-    /// [`PreparedView::prepare`] for a view given as a frustum (its eight
-    /// corners) rather than a camera: every body is computed from `view`
-    /// itself, and `camera` — for corners, the one
-    /// [`crate::camera_from_corners`] recovers — only chooses the
-    /// parameterisation and the split depths. With one split (and no PSM
-    /// range tightening) the split's frustum is `view`, exactly; otherwise
-    /// split `i` is the part of `view` between its depths, cut along `view`'s
-    /// own side edges and rounded outward (see [`slice`]), so that every
-    /// point of `view` lies in some split's frustum.
-    pub fn prepare_frustum(&mut self, view: &Frustum, camera: &Camera, settings: &FocusSettings) -> Result<(), FocusError> {
-        let prepared = self.fill(camera, settings, Some(view));
-        self.keep(prepared)
-    }
-
-    /// Checks the camera and settings and builds every split's frustum:
-    /// from the camera, or cut from `given` (see `prepare_frustum`).
-    fn fill(&mut self, camera: &Camera, settings: &FocusSettings, given: Option<&Frustum>) -> Result<(), FocusError> {
-        settings.validate()?;
-        self.basis = camera.basis()?;
-        self.camera = visible_range(camera, settings)?;
-        self.settings = *settings;
-        self.splits = split_depths(self.camera.near, self.camera.far, &settings.splits, &mut self.depths);
-        for i in 0..self.splits {
-            let range = [self.depths[i], self.depths[i + 1]];
-            self.frusta[i] = match given {
-                _ if !(range[0] < range[1]) => None,
-                Some(view) => Some(slice(view, &self.camera, &self.basis, range, camera)?),
-                None => Some(Frustum::from_camera_in(&Camera { near: range[0], far: range[1], ..self.camera }, &self.basis)?),
-            };
-        }
-        Ok(())
-    }
-
-    /// The settings the view was prepared with.
-    pub fn settings(&self) -> &FocusSettings {
-        &self.settings
-    }
-
-    /// The camera as fitted: the given one, with PSM's tightened near and
-    /// far applied.
-    pub fn camera(&self) -> &Camera {
-        &self.camera
-    }
-
-    /// Split boundaries as view depths, one more than there are splits
-    /// (none after a failed preparation).
-    pub fn split_depths(&self) -> &[f64] {
-        if self.failed.is_some() {
-            return &[];
-        }
-        &self.depths[..=self.splits]
-    }
-
-    /// Split `i`'s view frustum (`None` for a split without depth).
-    pub(crate) fn frustum(&self, i: usize) -> Option<&Frustum> {
-        self.frusta.get(i).and_then(Option::as_ref)
-    }
-
-    /// Split `i`'s view-depth range.
-    pub(crate) fn split_range(&self, i: usize) -> [f64; 2] {
-        [self.depths[i], self.depths[i + 1]]
-    }
-
-    /// The camera's unit view direction.
-    pub(crate) fn forward(&self) -> DVec3 {
-        self.basis.forward
-    }
 }
 
 /// [`fit`] for a view prepared by [`PreparedView::new`] or
@@ -239,74 +99,6 @@ pub fn fit_frustum(
     let mut pv = PreparedView::unprepared(camera, settings);
     pv.prepare_frustum(view, camera, settings)?;
     fit_prepared(&pv, light, scene, out)
-}
-
-/// Relative outward margin of a split cut from a given frustum (2⁻²⁰): far
-/// above the rounding of the interpolated corners (a few ulps of their
-/// magnitudes) and of the creases of the given side faces.
-const SLICE_MARGIN: f64 = 1.0 / (1u64 << 20) as f64;
-
-/// The part of `view` between the view depths `range` of `camera` (the
-/// fitted camera; `given` is the camera before PSM's tightening, whose near
-/// and far are `view`'s own faces).
-///
-/// Each side edge `c_k → c_{k+4}` is cut at the parameters `t` where its
-/// depth along the camera's forward axis is `range[0]` and `range[1]`:
-/// `t = (z − d_k)/(d_{k+4} − d_k)`, `d` the corners' depths. A depth at or
-/// beyond `given`'s near or far keeps that face's corners exactly; with
-/// both, the slice is `view` itself. Where a cut is interior, the
-/// parameters are widened by `SLICE_MARGIN` on both sides and the eight
-/// corners are moved away from their centroid by a factor `1 + SLICE_MARGIN`
-/// — a homothety, so the result contains the exact slice whatever the
-/// rounding of the interpolated corners and whichever diagonal the given
-/// side faces were creased along.
-fn slice(view: &Frustum, camera: &Camera, basis: &CameraBasis, range: [f64; 2], given: &Camera) -> Result<Frustum, FocusError> {
-    let keep_near = range[0] <= given.near;
-    let keep_far = range[1] >= given.far;
-    if keep_near && keep_far {
-        return Ok(*view);
-    }
-    let c = view.corners();
-    let depth = |p: DVec3| basis.forward.dot(p - camera.eye);
-    let mut out = [DVec3::ZERO; 8];
-    for k in 0..4 {
-        let (a, b) = (c[k], c[k + 4]);
-        let (da, db) = (depth(a), depth(b));
-        let at = |z: f64, bias: f64| {
-            let t = if db > da { (z - da) / (db - da) + bias } else { 0.5 };
-            let t = t.clamp(0.0, 1.0);
-            a + (b - a) * t
-        };
-        out[k] = if keep_near { a } else { at(range[0], -SLICE_MARGIN) };
-        out[k + 4] = if keep_far { b } else { at(range[1], SLICE_MARGIN) };
-    }
-    let centroid = out.iter().copied().sum::<DVec3>() / 8.0;
-    for p in &mut out {
-        *p = centroid + (*p - centroid) * (1.0 + SLICE_MARGIN);
-    }
-    Ok(Frustum::from_corners(out)?)
-}
-
-/// The camera whose depth range is fitted: narrowed to the visible depth
-/// range where the engine gives one ([`FocusSettings::visible_depth`]),
-/// and for PSM to its own tightened range (see `PsmSettings`).
-fn visible_range(camera: &Camera, settings: &FocusSettings) -> Result<Camera, FocusError> {
-    let mut cam = *camera;
-    if let Some([lo, hi]) = settings.visible_depth {
-        cam.near = cam.near.max(lo);
-        cam.far = cam.far.min(hi);
-        if !(cam.near < cam.far) {
-            return Err(FocusError::InvalidSettings { what: "visible_depth", reason: "leaves no depth range inside the camera's" });
-        }
-    }
-    if settings.method == Method::Psm {
-        cam.near = cam.near.max(settings.psm.near.unwrap_or(cam.near));
-        cam.far = cam.far.min(settings.psm.far.unwrap_or(cam.far));
-        if !(cam.near < cam.far) {
-            return Err(FocusError::InvalidSettings { what: "psm.near/psm.far", reason: "leave no depth range inside the camera's" });
-        }
-    }
-    Ok(cam)
 }
 
 /// A split emptied by δ_bias: no depth, hence no body and no map.
@@ -416,18 +208,6 @@ fn map_fit(sv: &SplitView, light: &Light, f: &Fitted) -> MapFit {
     }
 }
 
-/// `m` relative to the f32 origin, rounded to f32.
-///
-/// NOTE: with the origin at zero the product with the identity is skipped:
-/// it is exact, up to the sign of zero entries.
-pub(crate) fn f32_matrix(m: &DMat4, origin: DVec3) -> Mat4 {
-    if origin == DVec3::ZERO {
-        m.as_mat4()
-    } else {
-        (*m * DMat4::from_translation(origin)).as_mat4()
-    }
-}
-
 /// Fits one map to a body the caller computed (for engines with their own
 /// bodies, and to time the fitting alone). `camera` is the split's camera
 /// (its near and far are the split range); `settings.splits` is ignored. A
@@ -457,16 +237,8 @@ pub fn fit_map(camera: &Camera, light: &Light, body: &Body, settings: &FocusSett
 fn light_reach(view: &Frustum, l: DVec3, scene: &Aabb) -> f64 {
     let from_l = |c: DVec3| (c - l).abs().max_element();
     let v = view.corners().iter().map(|c| from_l(*c)).fold(0.0, f64::max);
-    let s = (0..8).map(|k| from_l(box_corner(scene, k))).fold(0.0, f64::max);
+    let s = (0..8).map(|k| from_l(scene.corner(k))).fold(0.0, f64::max);
     v.min(s)
-}
-
-fn box_corner(b: &Aabb, k: usize) -> DVec3 {
-    DVec3::new(
-        if k & 1 == 0 { b.min.x } else { b.max.x },
-        if k & 2 == 0 { b.min.y } else { b.max.y },
-        if k & 4 == 0 { b.min.z } else { b.max.z },
-    )
 }
 
 /// Largest absolute coordinate of the inputs of a split's body (the
@@ -633,7 +405,7 @@ fn cube_faces(
     let near = r * (1.0 / 3f64.sqrt()) * (1.0 - CONE_MARGIN);
     for face in CubeFace::ALL {
         let (axis, up) = face.axes();
-        let far = (0..8).map(|k| axis.dot(box_corner(scene, k) - l)).fold(f64::NEG_INFINITY, f64::max) * (1.0 + CONE_MARGIN);
+        let far = (0..8).map(|k| axis.dot(scene.corner(k) - l)).fold(f64::NEG_INFINITY, f64::max) * (1.0 + CONE_MARGIN);
         let (map, focuser) = push(out)?;
         begin(map, sv, split, Some(face), &Light::Point { position: l });
         map.light_near = r;

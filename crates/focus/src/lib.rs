@@ -108,13 +108,14 @@ mod serde_float;
 mod settings;
 mod split_view;
 mod splits;
+mod view;
 mod visible_depth;
 
 pub use camera::{camera_from_corners, RecoveredCamera};
 pub use clip::{ClipConvention, DepthRange, UvOrigin};
 pub use cull::{caster_planes, cull_casters, CasterRegion, MAX_REGION_PLANES};
 pub use error::FocusError;
-pub use fit::{fit, fit_frustum, fit_map, fit_prepared, PreparedView};
+pub use fit::{fit, fit_frustum, fit_map, fit_prepared};
 pub use frame::S0 as ORIENTATION_BLEND_SIN;
 pub use result::{CubeFace, DepthTest, FocusResult, MapFit, MapState, Notes, ShadowMap, Skipped};
 pub use settings::{
@@ -122,6 +123,7 @@ pub use settings::{
     TsmSettings, WarpDirection,
 };
 pub use splits::{clip_depth, split_depths};
+pub use view::PreparedView;
 pub use visible_depth::visible_depth_after_motion;
 
 /// Most parallel splits.

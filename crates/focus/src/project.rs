@@ -418,6 +418,18 @@ pub(crate) fn utilisation(m: &DMat4, pts: &[DVec3]) -> f64 {
     image_points(m, pts, &mut q).map_or(0.0, |q| (0.25 * hull_area(q)).min(1.0))
 }
 
+/// `m` relative to the f32 origin, rounded to f32.
+///
+/// NOTE: with the origin at zero the product with the identity is skipped:
+/// it is exact, up to the sign of zero entries.
+pub(crate) fn f32_matrix(m: &DMat4, origin: DVec3) -> glam::Mat4 {
+    if origin == DVec3::ZERO {
+        m.as_mat4()
+    } else {
+        (*m * DMat4::from_translation(origin)).as_mat4()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -37,11 +37,12 @@
 
 use crate::clip::ClipConvention;
 use crate::error::FocusError;
-use crate::fit::{f32_matrix, PreparedView};
 use crate::methods::light_point;
+use crate::project::f32_matrix;
 use crate::project::{crop_grown, from_rows, texel_size};
 use crate::result::{FocusResult, MapState, ShadowMap};
 use crate::settings::Footprint;
+use crate::view::PreparedView;
 use glam::{DMat4, DVec3};
 use shadowfocus_geom::{Aabb, Body, Light};
 

@@ -63,6 +63,25 @@ impl CubeFace {
     /// The six faces, in the order the fit emits them.
     pub const ALL: [CubeFace; 6] = [CubeFace::PosX, CubeFace::NegX, CubeFace::PosY, CubeFace::NegY, CubeFace::PosZ, CubeFace::NegZ];
 
+    /// The face of direction `d` from the light: its largest coordinate in
+    /// magnitude (the first on ties) and that coordinate's sign. This is the
+    /// face whose map answers for a receiver at `light + d`, as a cube map
+    /// chooses: each face holds the casters of its own 90° cone (widened by
+    /// 2⁻²⁰, so that the faces overlap), while its fitted image may reach
+    /// past the cone — a receiver there, looked up in that face, would miss
+    /// casters the face does not hold.
+    pub fn toward(d: glam::DVec3) -> CubeFace {
+        let a = d.abs();
+        let k = if a.x >= a.y && a.x >= a.z {
+            0
+        } else if a.y >= a.z {
+            1
+        } else {
+            2
+        };
+        CubeFace::ALL[2 * k + usize::from(d[k] < 0.0)]
+    }
+
     /// The direction the face looks along and its up vector.
     pub fn axes(self) -> (glam::DVec3, glam::DVec3) {
         use glam::DVec3 as V;
@@ -192,7 +211,9 @@ impl MapFit {
 pub struct ShadowMap {
     /// Index of the split this map serves.
     pub split: usize,
-    /// The cube face, for omnidirectional point lights.
+    /// The cube face, for omnidirectional point lights. A receiver `p` is
+    /// looked up in the face [`CubeFace::toward`]`(p − light)` only: another
+    /// face's image may hold `p` too, but not the casters on its light ray.
     pub face: Option<CubeFace>,
     /// The split's view-depth range `[z0, z1]` along the camera's forward axis.
     pub split_range: [f64; 2],

@@ -289,7 +289,7 @@ pub struct FocusSettings {
     /// The view depths `[z_min, z_max]` of the samples the frame shades
     /// (read back from its depth pre-pass), when the engine knows them: the
     /// fit then covers only `[max(near, z_min), min(far, z_max)]`, its splits
-    /// placed over that slab [SDSM10]. Every shaded receiver must lie in it
+    /// placed over that slab \[SDSM10\]. Every shaded receiver must lie in it
     /// (see [`crate::visible_depth_after_motion`] for a range one frame old).
     /// Pair it with [`SplitScheme::Log`]: over a tight range the logarithmic
     /// splits are the ones that gain (the practical scheme's uniform part

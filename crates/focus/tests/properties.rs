@@ -92,7 +92,12 @@ fn check_frame(cam: &Camera, light: &Light, scene: &Aabb, s: &FocusSettings, out
             continue;
         }
         let i = (0..s.splits.count).find(|&i| d[i] <= z && z <= d[i + 1]).unwrap();
-        let covered = out.maps().iter().filter(|m| m.split == i && m.is_active()).any(|m| inside_map_f64(&m.fit, p));
+        // A point light's receiver is looked up in the cube face toward it.
+        let own_face = |m: &ShadowMap| match (m.face, light) {
+            (Some(f), Light::Point { position }) => CubeFace::toward(p - *position) == f,
+            _ => true,
+        };
+        let covered = out.maps().iter().filter(|m| m.split == i && m.is_active() && own_face(m)).any(|m| inside_map_f64(&m.fit, p));
         // Within the split's r of a point light (the maps' light_near).
         let r = out.maps().iter().filter(|m| m.split == i).map(|m| m.light_near).fold(0.0, f64::max);
         let near_light = match light {
@@ -414,12 +419,17 @@ proptest! {
                 continue;
             }
             // The maps whose receivers p is among: p inside their image
-            // shrunk by the margin (a cube face's neighbour may hold p in
-            // its margin only). NOTE: the margin is exact up to the image's
-            // rounding, a few ulps.
+            // shrunk by the margin, and for a point light's cube faces p in
+            // the face's cone (the face `CubeFace::toward` picks; another
+            // face's image may reach p, but it answers only for its cone).
+            // NOTE: the margin is exact up to the image's rounding, a few ulps.
+            let own_face = |m: &ShadowMap| match (m.face, light) {
+                (Some(f), Light::Point { position }) => CubeFace::toward(p - position) == f,
+                _ => true,
+            };
             let within_margin = |m: &ShadowMap| {
                 let c = m.fit.clip_from_world * p.extend(1.0);
-                inside_map_f64(&m.fit, p) && (c.x / c.w).abs().max((c.y / c.w).abs()) <= inner * (1.0 + 1e-9)
+                own_face(m) && inside_map_f64(&m.fit, p) && (c.x / c.w).abs().max((c.y / c.w).abs()) <= inner * (1.0 + 1e-9)
             };
             let holding: Vec<&&ShadowMap> = maps.iter().filter(|m| within_margin(m)).collect();
             prop_assert!(!holding.is_empty(), "receiver {p} at depth {z} outside split {i}'s maps, or within the {margin}-texel margin only");

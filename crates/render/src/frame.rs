@@ -5,7 +5,7 @@ use crate::ground_truth::Visibility;
 use crate::image::Image;
 use crate::scene::Scene;
 use crate::stats::RenderMetrics;
-use crate::types::{validate_maps, CameraSpec, DepthMode, DepthTest, LightSpec, RenderSettings, ShadowMapSpec};
+use crate::types::{validate_maps, CameraSpec, CubeFaceSpec, DepthMode, DepthTest, LightSpec, RenderSettings, ShadowMapSpec};
 
 /// One frame to render.
 #[derive(Clone, Debug)]
@@ -78,6 +78,8 @@ pub struct DepthMap {
     pub world_to_clip: glam::Mat4,
     pub depth_test: DepthTest,
     pub split: [f32; 2],
+    /// The cube face, for a point light's face map: it answers only for its own cone.
+    pub face: Option<CubeFaceSpec>,
     /// Whether `depth` holds linear light depths ([`DepthMode::Linear`]) instead of z.
     pub linear: bool,
 }

@@ -51,4 +51,4 @@ pub use renderer::{render_scene, Renderer};
 pub use scene::{Scene, SceneObject, Vertex};
 pub use scenes::{builtin_scene, BUILTIN_SCENES};
 pub use stats::{AliasingStats, CasterStats, CoverageStats, MismatchStats, RenderMetrics, ADEQUATE_ALIASING};
-pub use types::{Bounds, CameraSpec, DepthMode, DepthTest, EyeBlur, LightSpec, Pcf, RenderSettings, ShadowMapSpec, MAX_MAPS};
+pub use types::{Bounds, CameraSpec, CubeFaceSpec, DepthMode, DepthTest, EyeBlur, LightSpec, Pcf, RenderSettings, ShadowMapSpec, MAX_MAPS};

@@ -99,6 +99,7 @@ pub fn scene_box_map(scene: &Scene, camera: &CameraSpec, light: &LightSpec, aspe
         depth_test: DepthTest::Less,
         split: [camera.near as f32, camera.far as f32],
         casters: scene.all_objects(),
+        face: None,
     })
 }
 
@@ -137,6 +138,7 @@ pub fn split_maps(scene: &Scene, camera: &CameraSpec, light: &LightSpec, aspect:
             depth_test: DepthTest::Less,
             split: [w[0] as f32, w[1] as f32],
             casters: objects_in_clip_box(scene, &mat),
+            face: None,
         });
     }
     Ok(out)

@@ -266,6 +266,41 @@ pub struct ShadowMapSpec {
     pub split: [f32; 2],
     /// Indices into `Scene::objects` drawn into this map.
     pub casters: Vec<u32>,
+    /// For one face of a point light's cube: which receivers the map answers for.
+    pub face: Option<CubeFaceSpec>,
+}
+
+/// One face of a point light's cube of maps. A face's map holds the casters of the receivers in
+/// its own 90° cone only, while its fitted image may reach past the cone into its neighbours'; a
+/// receiver is therefore looked up in the face of its direction from the light, as a cube map
+/// chooses, and never in another face whose image happens to hold it too.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CubeFaceSpec {
+    /// The light's position.
+    pub light: DVec3,
+    /// The face: 0 = +x, 1 = −x, 2 = +y, 3 = −y, 4 = +z, 5 = −z.
+    pub index: u32,
+}
+
+impl CubeFaceSpec {
+    /// The face of direction `d`: its largest coordinate in magnitude (the first on ties) and
+    /// that coordinate's sign.
+    pub fn index_toward(d: DVec3) -> u32 {
+        let a = d.abs();
+        let k = if a.x >= a.y && a.x >= a.z {
+            0
+        } else if a.y >= a.z {
+            1
+        } else {
+            2
+        };
+        2 * k as u32 + u32::from(d[k] < 0.0)
+    }
+
+    /// Whether the face answers for the receiver `p`.
+    pub fn holds(&self, p: DVec3) -> bool {
+        CubeFaceSpec::index_toward(p - self.light) == self.index
+    }
 }
 
 /// Shadow-map filtering in the main pass.

@@ -26,6 +26,7 @@ pub(crate) struct ShadowUniform {
 pub(crate) struct MapInfo {
     pub world_to_clip: [f32; 16],
     pub split: [f32; 4],
+    pub face: [f32; 4],
 }
 
 #[repr(C)]
@@ -97,7 +98,11 @@ mod tests {
             &scene,
             "MapInfo",
             size_of::<MapInfo>(),
-            &[("world_to_clip", offset_of!(MapInfo, world_to_clip)), ("split", offset_of!(MapInfo, split))],
+            &[
+                ("world_to_clip", offset_of!(MapInfo, world_to_clip)),
+                ("split", offset_of!(MapInfo, split)),
+                ("face", offset_of!(MapInfo, face)),
+            ],
         );
         check(
             &scene,

@@ -75,8 +75,13 @@ fn aliasing_matches_the_analytic_footprint_ratio() {
     let scene = Scene::new("plane", vertices, vec![0, 1, 2, 0, 2, 3], &[(0, 6, true)], camera, light).unwrap();
     let view = glam::dcamera::rh::view::look_to_mat4(DVec3::new(0.0, 100.0, 0.0), -DVec3::Y, DVec3::Z);
     let proj = glam::dcamera::rh::proj::directx::orthographic(-50.0, 50.0, -50.0, 50.0, 1.0, 200.0);
-    let maps =
-        [ShadowMapSpec { world_to_clip: (proj * view).as_mat4(), depth_test: DepthTest::Less, split: [1.0, 50.0], casters: vec![0] }];
+    let maps = [ShadowMapSpec {
+        world_to_clip: (proj * view).as_mat4(),
+        depth_test: DepthTest::Less,
+        split: [1.0, 50.0],
+        casters: vec![0],
+        face: None,
+    }];
     let mut req = RenderRequest::new(&scene, &maps);
     small(&mut req, 128, 128, 512);
     let Some(out) = render(&req) else { return };

@@ -43,6 +43,13 @@ impl Aabb {
         Some(Aabb { min, max })
     }
 
+    /// Corner `k` (0..8): bit 0 picks `max.x` over `min.x`, bit 1 `max.y`,
+    /// bit 2 `max.z`.
+    pub fn corner(&self, k: usize) -> DVec3 {
+        let pick = |bit: usize, lo: f64, hi: f64| if k & bit == 0 { lo } else { hi };
+        DVec3::new(pick(1, self.min.x, self.max.x), pick(2, self.min.y, self.max.y), pick(4, self.min.z, self.max.z))
+    }
+
     /// Whether `p` lies in the closed box (exact comparisons).
     pub fn contains(&self, p: DVec3) -> bool {
         p.cmpge(self.min).all() && p.cmple(self.max).all()

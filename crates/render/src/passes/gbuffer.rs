@@ -130,11 +130,15 @@ fn frame_uniform(req: &RenderRequest, depth: DepthLookup) -> Result<FrameUniform
     let s = &req.settings;
     let view_proj = (req.camera.projection_matrix(req.aspect()) * req.camera.view_matrix()?).as_mat4();
     let (fwd, _, _) = req.camera.basis()?;
-    let mut maps = [MapInfo { world_to_clip: [0.0; 16], split: [0.0; 4] }; MAX_MAPS];
+    let mut maps = [MapInfo { world_to_clip: [0.0; 16], split: [0.0; 4], face: [0.0, 0.0, 0.0, -1.0] }; MAX_MAPS];
     for (i, m) in req.maps.iter().enumerate() {
         maps[i] = MapInfo {
             world_to_clip: mat(m.world_to_clip),
             split: [m.split[0], m.split[1], if req.stores_flipped(m) { 1.0 } else { 0.0 }, if depth.greater { -1.0 } else { 1.0 }],
+            face: match m.face {
+                Some(c) => [c.light.x as f32, c.light.y as f32, c.light.z as f32, c.index as f32],
+                None => [0.0, 0.0, 0.0, -1.0],
+            },
         };
     }
     let (pcf_mode, pcf_radius) = match s.pcf {

@@ -80,6 +80,7 @@ pub(crate) fn read_frame(
                 world_to_clip: m.world_to_clip,
                 depth_test: m.depth_test,
                 split: m.split,
+                face: m.face,
                 linear: matches!(req.settings.depth, DepthMode::Linear { .. }),
             }
         })

@@ -8,6 +8,9 @@ struct MapInfo {
     // x, y = view-depth range served; z = 1 for a map stored as 1 − z (its test is not the
     // buffer's); w = +1 for a "less" buffer, −1 for a reversed one.
     split: vec4<f32>,
+    // A point light's cube face: xyz = the light, w = the face (0 = +x, 1 = −x, …, 5 = −z);
+    // w = −1 for every other map.
+    face: vec4<f32>,
 };
 
 struct Frame {
@@ -67,6 +70,34 @@ fn map_contains(i: u32, p: vec3<f32>) -> bool {
         return true;
     }
     return c.z >= 0.0 && c.z <= c.w;
+}
+
+// A cube face answers only for the receivers in its own 90° cone (its image may reach past it,
+// its casters do not): the face of the largest coordinate of p − light (the first on ties), as a
+// cube map chooses. NOTE: the faces' cones overlap by a relative 2⁻²⁰, far above the f32 rounding
+// of p − light, so a tie rounded either way picks a face that holds p.
+fn face_holds(i: u32, p: vec3<f32>) -> bool {
+    let c = f.maps[i].face;
+    if (c.w < 0.0) {
+        return true;
+    }
+    let d = p - c.xyz;
+    let a = abs(d);
+    var k = 2u;
+    var s = d.z;
+    if (a.x >= a.y && a.x >= a.z) {
+        k = 0u;
+        s = d.x;
+    } else if (a.y >= a.z) {
+        k = 1u;
+        s = d.y;
+    }
+    return f32(2u * k + select(0u, 1u, s < 0.0)) == c.w;
+}
+
+// Whether map i answers for the receiver p: p in its clip volume (and its cone, for a face).
+fn map_answers(i: u32, p: vec3<f32>) -> bool {
+    return map_contains(i, p) && face_holds(i, p);
 }
 
 fn compare_tap(i: u32, uv: vec2<f32>, r: f32) -> f32 {
@@ -261,7 +292,7 @@ fn fs(in: VsOut) -> GOut {
     var chosen = -1;
     for (var i = 0u; i < count; i = i + 1u) {
         let s = f.maps[i].split;
-        if (depth >= s.x && depth <= s.y && map_contains(i, p)) {
+        if (depth >= s.x && depth <= s.y && map_answers(i, p)) {
             chosen = i32(i);
             break;
         }
@@ -278,7 +309,7 @@ fn fs(in: VsOut) -> GOut {
         let len = (s.y - s.x) * band;
         if (band > 0.0 && len > 0.0 && depth > s.y - len) {
             for (var j = i + 1u; j < count; j = j + 1u) {
-                if (map_contains(j, p)) {
+                if (map_answers(j, p)) {
                     let t = clamp((depth - (s.y - len)) / len, 0.0, 1.0);
                     vis = mix(vis, shadow_lookup(j, p, n), t);
                     break;
