@@ -47,6 +47,7 @@ fn fitting_a_frame_does_not_allocate() {
     let casters = [Aabb::new(DVec3::new(-1.0, 0.0, -5.0), DVec3::new(1.0, 3.0, -3.0)).unwrap(); 8];
     let mut idx = [0u32; 8];
     let mut out = FocusResult::new();
+    let mut state = FitState::default();
     let mut run = |out: &mut FocusResult, check: bool| {
         for light in &lights {
             for method in [Method::Uniform, Method::Psm, Method::Lispsm, Method::Tsm] {
@@ -66,6 +67,8 @@ fn fitting_a_frame_does_not_allocate() {
                         let view = PreparedView::new(&cam, &s).unwrap();
                         let a3 = allocations();
                         fit_prepared(&view, light, &scene, out).unwrap();
+                        // And with a state carried from the last frame.
+                        fit_prepared_with_state(&view, light, &scene, &mut state, out).unwrap();
                         let a4 = allocations();
                         if !check {
                             continue;

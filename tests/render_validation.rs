@@ -312,7 +312,8 @@ fn sdsm_splits_alias_less_than_the_practical_scheme() {
         let frame = shadowfocus_cli::cli::overrides::Frame::of(&s);
         let plain = FitOptions { splits: 4, resolution: RES / 2, ..FitOptions::default() };
         let sdsm = FitOptions { sdsm: true, ..plain.clone() };
-        let run = |r: &mut Renderer, o: &FitOptions| shadowfocus_cli::cli::render::render_frame(r, &s, &frame, o, SIZE, false).unwrap();
+        let run =
+            |r: &mut Renderer, o: &FitOptions| shadowfocus_cli::cli::render::render_frame(r, &s, &frame, o, SIZE, false, None).unwrap();
         let ((a, _), (b, extra)) = (run(renderer, &plain), run(renderer, &sdsm));
         let (a, b) = (&a.metrics, &b.metrics);
         eprintln!(
@@ -336,7 +337,7 @@ fn the_renderer_refuses_what_it_cannot_render_right() {
     let mut guard = RENDERER.lock().unwrap_or_else(|e| e.into_inner());
     let renderer = guard.get_or_insert_with(|| Renderer::from_env().expect("a wgpu adapter (llvmpipe on a fresh machine)"));
     let frame = shadowfocus_cli::cli::overrides::Frame::of(&s);
-    let err = shadowfocus_cli::cli::render::render_frame(renderer, &s, &frame, &opts, SIZE, false).unwrap_err();
+    let err = shadowfocus_cli::cli::render::render_frame(renderer, &s, &frame, &opts, SIZE, false, None).unwrap_err();
     assert!(err.contains("[0, 1]"), "{err}");
 }
 

@@ -5,6 +5,7 @@
 use glam::DVec3;
 use shadowfocus_cli::cli::animate::{animate, AnimateOptions, CameraPath};
 use shadowfocus_cli::cli::fit::FitOptions;
+use shadowfocus_cli::cli::overrides::{parse_light, LightOverride};
 use shadowfocus_cli::cli::render::fit_scene;
 use shadowfocus_cli::focus::Method;
 use shadowfocus_cli::render::{builtin_scene, Pcf, RenderRequest, Renderer};
@@ -45,9 +46,13 @@ fn the_cpu_lookup_agrees_with_the_rendered_shadow() {
 }
 
 fn run(stable: bool, dir: &str) -> serde_json::Value {
+    run_in("forest", None, stable, dir)
+}
+
+fn run_in(scene: &str, light: Option<LightOverride>, stable: bool, dir: &str) -> serde_json::Value {
     let fit = FitOptions { method: Method::Uniform, stable, ..FitOptions::default() };
     let out = std::env::temp_dir().join(format!("shadowfocus-temporal-{}-{dir}", std::process::id()));
-    let o = AnimateOptions { scene: "forest".into(), path: CameraPath::Orbit, frames: 24, size: (320, 180), fit, out: out.clone() };
+    let o = AnimateOptions { scene: scene.into(), path: CameraPath::Orbit, frames: 24, size: (320, 180), light, fit, out: out.clone() };
     let summary = animate(&o).unwrap();
     assert!(out.join("strip.png").is_file() && out.join("frames.csv").is_file() && out.join("temporal.json").is_file());
     std::fs::remove_dir_all(&out).unwrap();
@@ -65,4 +70,19 @@ fn stable_uniform_maps_hold_still_where_plain_ones_flicker() {
     assert!(f(&stable, "flicker") * 10.0 <= f(&plain, "flicker").max(1e-9), "plain {plain}\nstable {stable}");
     assert_eq!(stable["misses"], 0, "{stable}");
     assert_eq!(plain["misses"], 0, "{plain}");
+}
+
+/// A spot light over the chessboard: its plain map, fitted to the body each
+/// frame, crawls; the stable one (the spot's own frame, extents in quarter
+/// octaves, texel-snapped) holds still.
+#[test]
+fn stable_spot_maps_hold_still_where_plain_ones_flicker() {
+    let _one = GPU.lock().unwrap_or_else(|e| e.into_inner());
+    let spot = || Some(parse_light("spot:2,14,4,-0.15,-1,-0.3,75").unwrap());
+    let (plain, stable) = (run_in("chessboard", spot(), false, "spot-plain"), run_in("chessboard", spot(), true, "spot-stable"));
+    let f = |s: &serde_json::Value, k: &str| s[k].as_f64().unwrap_or_else(|| panic!("{k} missing in {s}"));
+    assert!(f(&plain, "point_frames_near_edges") > 1000.0, "too few probes near edges: {plain}");
+    assert!(f(&plain, "flicker_near_edges") > 0.01, "the plain spot map's edges should crawl on an orbit: {plain}");
+    assert!(f(&stable, "flicker_near_edges") * 10.0 <= f(&plain, "flicker_near_edges"), "plain {plain}\nstable {stable}");
+    assert_eq!(stable["misses"], 0, "{stable}");
 }

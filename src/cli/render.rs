@@ -4,7 +4,9 @@ use super::fit::FitOptions;
 use super::overrides::{Frame, Overrides};
 use render::{contact_sheet, write_outputs, Image, LightSpec, RenderRequest, Renderer, Scene, ShadowMapSpec};
 use serde_json::{json, Value};
-use shadowfocus_focus::{cull_casters, fit, DepthRange, DepthTest, FocusResult, FocusSettings, Method};
+use shadowfocus_focus::{
+    cull_casters, fit, fit_prepared_with_state, DepthRange, DepthTest, FitState, FocusResult, FocusSettings, Method, PreparedView,
+};
 use shadowfocus_geom::{Aabb, Camera, Frustum, Light};
 use shadowfocus_render as render;
 use std::path::Path;
@@ -36,7 +38,7 @@ pub fn frame_inputs(scene: &Scene, frame: &Frame, aspect: f64) -> Result<(Camera
 /// culled caster lists. Returns the specs, the focusing time in µs and the
 /// fit's skip/notes summary.
 pub fn fit_scene(scene: &Scene, aspect: f64, settings: &FocusSettings) -> Result<(Vec<ShadowMapSpec>, f64, Value), String> {
-    fit_frame(scene, &Frame::of(scene), aspect, settings)
+    fit_frame(scene, &Frame::of(scene), aspect, settings, None)
 }
 
 /// [`fit_scene`] with the camera and light of `frame`. The summary also
@@ -45,14 +47,26 @@ pub fn fit_scene(scene: &Scene, aspect: f64, settings: &FocusSettings) -> Result
 /// of the focus body H in the map's stored depth: 1 when the depth range is
 /// fitted to H, more when it is fitted to the receivers only
 /// (`--depth-clamp`): by that factor the depth buffer's precision grows.
-pub fn fit_frame(scene: &Scene, frame: &Frame, aspect: f64, settings: &FocusSettings) -> Result<(Vec<ShadowMapSpec>, f64, Value), String> {
+/// With `state`, the fit carries it from the previous frame (a camera path:
+/// see [`FitState`]); the repeated fits timed here hold this frame's steps.
+pub fn fit_frame(
+    scene: &Scene,
+    frame: &Frame,
+    aspect: f64,
+    settings: &FocusSettings,
+    mut state: Option<&mut FitState>,
+) -> Result<(Vec<ShadowMapSpec>, f64, Value), String> {
     let (camera, light, bounds) = frame_inputs(scene, frame, aspect)?;
     let mut result = FocusResult::new();
     // Focusing time: median of a few fits (the first one warms caches).
     let mut times = Vec::new();
     for _ in 0..7 {
         let t = Instant::now();
-        fit(&camera, &light, &bounds, settings, &mut result).map_err(|e| e.to_string())?;
+        match state.as_deref_mut() {
+            Some(st) => PreparedView::new(&camera, settings).and_then(|v| fit_prepared_with_state(&v, &light, &bounds, st, &mut result)),
+            None => fit(&camera, &light, &bounds, settings, &mut result),
+        }
+        .map_err(|e| e.to_string())?;
         times.push(t.elapsed().as_secs_f64() * 1e6);
     }
     let focusing_us = super::body::median(&mut times);
@@ -125,7 +139,7 @@ fn visible_depth(
     size: (u32, u32),
 ) -> Result<Option<[f64; 2]>, String> {
     let aspect = size.0 as f64 / size.1 as f64;
-    let (specs, _, _) = fit_frame(scene, frame, aspect, settings)?;
+    let (specs, _, _) = fit_frame(scene, frame, aspect, settings, None)?;
     let mut req = request(scene, frame, &specs, size, 64, settings);
     (req.settings.ground_truth, req.settings.save_shadow_maps) = (false, false);
     let out = renderer.render(&req).map_err(|e| e.to_string())?;
@@ -171,7 +185,7 @@ pub fn render_frame_to(
     size: (u32, u32),
     dir: &Path,
 ) -> Result<render::RenderOutput, String> {
-    let (out, extra) = render_frame(renderer, scene, frame, opts, size, true)?;
+    let (out, extra) = render_frame(renderer, scene, frame, opts, size, true, None)?;
     write_outputs(dir, &out, Some(&extra)).map_err(|e| e.to_string())?;
     Ok(out)
 }
@@ -187,6 +201,7 @@ pub fn render_frame(
     opts: &FitOptions,
     size: (u32, u32),
     maps: bool,
+    state: Option<&mut FitState>,
 ) -> Result<(render::RenderOutput, Value), String> {
     let mut settings = opts.settings()?;
     let sdsm = if opts.sdsm { visible_depth(renderer, scene, frame, &settings, size)? } else { None };
@@ -201,7 +216,7 @@ pub fn render_frame(
         return Err(format!("--depth-clamp needs depth clamping (DEPTH_CLIP_CONTROL), which {} lacks", renderer.adapter().name));
     }
     let aspect = size.0 as f64 / size.1 as f64;
-    let (specs, focusing_us, summary) = fit_frame(scene, frame, aspect, &settings)?;
+    let (specs, focusing_us, summary) = fit_frame(scene, frame, aspect, &settings, state)?;
     // Reported in the metrics; a map the body fills exactly can come out a
     // rounding error above 1.
     let utilisation: Vec<f64> =
@@ -289,7 +304,7 @@ pub fn demo(dir: &Path, size: (u32, u32), resolution: u32, scenes: &[String], ov
         for (label, opts) in &configs {
             progress(done, total, &format!("{name} / {label}"));
             let sub = dir.join(name).join(label);
-            let (out, extra) = render_frame(&mut renderer, &scene, &frame, opts, size, true)?;
+            let (out, extra) = render_frame(&mut renderer, &scene, &frame, opts, size, true, None)?;
             write_outputs(&sub, &out, Some(&extra)).map_err(|e| e.to_string())?;
             let m = &out.metrics;
             rows.push(json!({

@@ -296,7 +296,7 @@ fn render_one(
     maps: bool,
 ) -> Result<(render::RenderOutput, Value), String> {
     let frame = Frame { camera: plan.camera, light: light.light };
-    render_frame(renderer, scene, &frame, &m.options(plan.resolution), plan.size, maps)
+    render_frame(renderer, scene, &frame, &m.options(plan.resolution), plan.size, maps, None)
 }
 
 /// Renders every configuration of `plan`, lights in order and every method

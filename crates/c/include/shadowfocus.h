@@ -262,8 +262,10 @@ typedef struct SfSettings {
    */
   uint32_t resolution;
   /*
-   Nonzero: texel-snapped, camera-rotation invariant maps (directional
-   lights with the uniform method; ignored otherwise, with a note).
+   Nonzero: stable maps with the uniform (or auto) method, texel-snapped
+   with quantised extents and depth ranges (directional lights: camera-
+   rotation invariant; spot lights: in the spot's frame; point lights:
+   six cube faces); ignored with the other methods, with a note.
    */
   int stable;
   /*
@@ -567,6 +569,20 @@ typedef struct SfMap {
   int receiver_footprint;
 } SfMap;
 
+/*
+ What a stable fit carries from one frame to the next (see
+ `sf_fit_light_held`): plain data, held by the caller, one per light.
+ Initialise it with `sf_fit_state_init`; its contents are hints that the
+ fit checks, so a state from another light or an earlier run never makes
+ a map lose its body.
+ */
+typedef struct SfFitState {
+  /*
+   Per map slot, the extent step held (-1: none).
+   */
+  int16_t steps[48];
+} SfFitState;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -661,6 +677,34 @@ int sf_fit_light(struct SfContext *ctx,
                  struct SfMap *maps,
                  size_t capacity,
                  size_t *count);
+
+/*
+ `sf_fit_light` carrying `state` from the previous frame: with stable
+ settings, a spot map or cube face whose body hovers at an extent step's
+ boundary keeps its step instead of switching its texel grid every frame.
+ `state` is updated with this frame's steps (cleared on an error).
+ Without stable settings the maps are `sf_fit_light`'s, bit for bit.
+ A NULL `state` is `SF_ERR_NULL_POINTER`.
+
+ # Safety
+ Every pointer is NULL or valid for its type (`maps` for `capacity` maps).
+ */
+int sf_fit_light_held(struct SfContext *ctx,
+                      const struct SfLight *light,
+                      const struct SfAabb *scene,
+                      struct SfFitState *state,
+                      struct SfMap *maps,
+                      size_t capacity,
+                      size_t *count);
+
+/*
+ Sets `state` to hold nothing (the next held fit is the plain one); NULL
+ is a no-op.
+
+ # Safety
+ `state` is NULL or points to a writable `SfFitState`.
+ */
+void sf_fit_state_init(struct SfFitState *state);
 
 /*
  Writes the vertices of the focus body of map `map_index` of the last

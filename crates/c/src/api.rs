@@ -5,6 +5,7 @@ use crate::context::SfContext;
 use crate::convert;
 use crate::error::Failure;
 use crate::types::*;
+use shadowfocus_focus::FitState;
 use shadowfocus_geom::Body;
 use std::any::Any;
 use std::ffi::{c_char, c_int};
@@ -203,7 +204,7 @@ pub unsafe extern "C" fn sf_fit(
             let count = reset_count(count)?;
             let (camera, settings) = (input(camera, "camera")?, input(settings, "settings")?);
             ctx.prepare(&convert::camera(camera), &convert::settings(settings)?)?;
-            fit_light(ctx, light, scene, maps, capacity, count)
+            fit_light(ctx, light, scene, None, maps, capacity, count)
         })
     }
 }
@@ -244,12 +245,61 @@ pub unsafe extern "C" fn sf_fit_light(
         guard(ctx, |ctx| {
             ctx.forget_fit();
             let count = reset_count(count)?;
-            fit_light(ctx, light, scene, maps, capacity, count)
+            fit_light(ctx, light, scene, None, maps, capacity, count)
         })
     }
 }
 
-/// Checks, converts and fits one light from the prepared view, then writes the maps.
+/// `sf_fit_light` carrying `state` from the previous frame: with stable
+/// settings, a spot map or cube face whose body hovers at an extent step's
+/// boundary keeps its step instead of switching its texel grid every frame.
+/// `state` is updated with this frame's steps (cleared on an error).
+/// Without stable settings the maps are `sf_fit_light`'s, bit for bit.
+/// A NULL `state` is `SF_ERR_NULL_POINTER`.
+///
+/// # Safety
+/// Every pointer is NULL or valid for its type (`maps` for `capacity` maps).
+#[no_mangle]
+pub unsafe extern "C" fn sf_fit_light_held(
+    ctx: *mut SfContext,
+    light: *const SfLight,
+    scene: *const SfAabb,
+    state: *mut SfFitState,
+    maps: *mut SfMap,
+    capacity: usize,
+    count: *mut usize,
+) -> c_int {
+    // SAFETY: the pointers are valid or NULL (caller); each is checked before use.
+    unsafe {
+        guard(ctx, |ctx| {
+            ctx.forget_fit();
+            let count = reset_count(count)?;
+            // SAFETY: NULL or writable (caller).
+            let state = state.as_mut().ok_or_else(|| Failure::null("state"))?;
+            let fitted = fit_light(ctx, light, scene, Some(&mut *state), maps, capacity, count);
+            if fitted.is_err() {
+                state.steps = FitState::default().to_steps();
+            }
+            fitted
+        })
+    }
+}
+
+/// Sets `state` to hold nothing (the next held fit is the plain one); NULL
+/// is a no-op.
+///
+/// # Safety
+/// `state` is NULL or points to a writable `SfFitState`.
+#[no_mangle]
+pub unsafe extern "C" fn sf_fit_state_init(state: *mut SfFitState) {
+    // SAFETY: NULL or writable (caller).
+    if let Some(s) = unsafe { state.as_mut() } {
+        s.steps = FitState::default().to_steps();
+    }
+}
+
+/// Checks, converts and fits one light from the prepared view (carrying
+/// `state` where given), then writes the maps.
 ///
 /// # Safety
 /// `light` and `scene` are NULL or readable; `maps` holds `capacity`
@@ -258,6 +308,7 @@ unsafe fn fit_light(
     ctx: &mut SfContext,
     light: *const SfLight,
     scene: *const SfAabb,
+    state: Option<&mut SfFitState>,
     maps: *mut SfMap,
     capacity: usize,
     count: *mut usize,
@@ -267,7 +318,15 @@ unsafe fn fit_light(
     output(maps, capacity, "maps")?;
     let light = convert::light(light)?;
     let scene = convert::aabb(scene).map_err(|e| Failure::geom(&e, ""))?;
-    ctx.fit_light(&light, &scene)?;
+    match state {
+        Some(s) => {
+            let mut held = FitState::from_steps(s.steps);
+            let fitted = ctx.fit_light(&light, &scene, Some(&mut held));
+            s.steps = held.to_steps();
+            fitted?;
+        }
+        None => ctx.fit_light(&light, &scene, None)?,
+    }
     let fitted = ctx.result()?.maps();
     // SAFETY: `maps` and `count` as promised by the caller.
     unsafe { write_all(maps, capacity, count, fitted.len(), "maps", |i| convert::map(&fitted[i])) }

@@ -3,7 +3,9 @@
 use crate::convert;
 use crate::error::Failure;
 use crate::types::SfStatus;
-use shadowfocus_focus::{cull_casters, fit_prepared, CasterRegion, FocusResult, FocusSettings, PreparedView};
+use shadowfocus_focus::{
+    cull_casters, fit_prepared, fit_prepared_with_state, CasterRegion, FitState, FocusResult, FocusSettings, PreparedView,
+};
 use shadowfocus_geom::{Aabb, Body, Camera, Focuser, Frustum, Light};
 use std::ffi::c_char;
 
@@ -84,11 +86,15 @@ impl SfContext {
         Ok(())
     }
 
-    /// Fits `light` over `scene` from the prepared view.
-    pub fn fit_light(&mut self, light: &Light, scene: &Aabb) -> Result<(), Failure> {
+    /// Fits `light` over `scene` from the prepared view, carrying `state`
+    /// from the previous frame when one is given.
+    pub fn fit_light(&mut self, light: &Light, scene: &Aabb, state: Option<&mut FitState>) -> Result<(), Failure> {
         self.fitted = None;
         let view = self.view.as_ref().ok_or_else(|| Failure::invalid("no view prepared: call sf_prepare_view or sf_fit first"))?;
-        fit_prepared(view, light, scene, &mut self.result)?;
+        match state {
+            Some(state) => fit_prepared_with_state(view, light, scene, state, &mut self.result)?,
+            None => fit_prepared(view, light, scene, &mut self.result)?,
+        }
         self.fitted = Some(Fitted { camera: *view.camera(), light: *light, scene: *scene });
         Ok(())
     }

@@ -198,6 +198,18 @@ pub struct SfLight {
     pub far_dist: f64,
 }
 
+/// What a stable fit carries from one frame to the next (see
+/// `sf_fit_light_held`): plain data, held by the caller, one per light.
+/// Initialise it with `sf_fit_state_init`; its contents are hints that the
+/// fit checks, so a state from another light or an earlier run never makes
+/// a map lose its body.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SfFitState {
+    /// Per map slot, the extent step held (-1: none).
+    pub steps: [i16; 48],
+}
+
 /// An axis-aligned box; `min <= max` on every axis (zero thickness allowed).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -225,8 +237,10 @@ pub struct SfSettings {
     pub delta_bias: f64,
     /// Map resolution in texels (square maps), >= 4 (default 2048).
     pub resolution: u32,
-    /// Nonzero: texel-snapped, camera-rotation invariant maps (directional
-    /// lights with the uniform method; ignored otherwise, with a note).
+    /// Nonzero: stable maps with the uniform (or auto) method, texel-snapped
+    /// with quantised extents and depth ranges (directional lights: camera-
+    /// rotation invariant; spot lights: in the spot's frame; point lights:
+    /// six cube faces); ignored with the other methods, with a note.
     pub stable: c_int,
     /// Nonzero: clip depth in [0, 1] (wgpu, Vulkan, Direct3D, Metal); 0: in
     /// [-1, 1] (OpenGL). Default 1.

@@ -1,6 +1,6 @@
 //! One frame: splits, bodies, maps, plan.
 
-use crate::cone::{turn_into_cone, CONE_MARGIN};
+use crate::cone::{cone_axis, turn_into_cone, CONE_MARGIN};
 use crate::error::FocusError;
 use crate::frame::{perpendicular_hint, tangent_frame};
 use crate::methods::{fit_body, light_point, Fitted, SplitView};
@@ -8,6 +8,7 @@ use crate::project::{f32_matrix, texel_size};
 use crate::receivers::fit_receivers;
 use crate::result::{CubeFace, FocusResult, MapFit, MapState, Notes, ShadowMap, Skipped};
 use crate::settings::{FocusSettings, Footprint, Method, PointMode};
+use crate::state::FitState;
 use crate::view::PreparedView;
 use glam::DVec3;
 use shadowfocus_geom::{Aabb, Body, Camera, Focuser, Frustum, Light, MAX_VERTICES, ROUNDING_ULPS};
@@ -56,6 +57,30 @@ pub fn fit(camera: &Camera, light: &Light, scene: &Aabb, settings: &FocusSetting
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn fit_prepared(view: &PreparedView, light: &Light, scene: &Aabb, out: &mut FocusResult) -> Result<(), FocusError> {
+    out.hold_steps(&FitState::default().steps);
+    fit_held(view, light, scene, out)
+}
+
+/// [`fit_prepared`] for stable maps that hold still over a camera path:
+/// `state` carries each stable spot map's extent step from the previous
+/// frame, and is updated with this frame's (see [`FitState`]). Other maps,
+/// and fits without `stable`, are [`fit_prepared`]'s bit for bit. On an
+/// error `state` is cleared, so the next frame starts afresh.
+pub fn fit_prepared_with_state(
+    view: &PreparedView,
+    light: &Light,
+    scene: &Aabb,
+    state: &mut FitState,
+    out: &mut FocusResult,
+) -> Result<(), FocusError> {
+    out.hold_steps(&state.steps);
+    let fitted = fit_held(view, light, scene, out);
+    state.steps = if fitted.is_ok() { out.chosen_steps() } else { FitState::default().steps };
+    fitted
+}
+
+/// The fit, holding the steps already set in `out`.
+fn fit_held(view: &PreparedView, light: &Light, scene: &Aabb, out: &mut FocusResult) -> Result<(), FocusError> {
     out.clear();
     if let Some(e) = &view.failed {
         return Err(e.clone());
@@ -168,7 +193,7 @@ fn finish(map: &mut ShadowMap, sv: &SplitView) -> bool {
         map.set_empty();
         return true;
     }
-    let Some(f) = fit_body(sv, &map.light, &map.body) else { return false };
+    let Some(f) = fit_body(sv, &map.light, &map.body, map.hold) else { return false };
     store(map, sv, &f);
     true
 }
@@ -184,6 +209,7 @@ fn store(map: &mut ShadowMap, sv: &SplitView, f: &Fitted) {
         }
     }
     map.notes = notes;
+    map.step = f.stable_step;
     let warped = matches!(sv.settings.method, Method::Lispsm | Method::Tsm);
     map.skipped = if f.warp_vanished && warped { Skipped::WARP } else { Skipped(0) };
 }
@@ -226,7 +252,7 @@ pub fn fit_map(camera: &Camera, light: &Light, body: &Body, settings: &FocusSett
         return Ok(MapFit::empty(settings.method, settings.clip));
     }
     let sv = SplitView { camera, basis, settings };
-    let f = fit_body(&sv, light, body)
+    let f = fit_body(&sv, light, body, -1)
         .ok_or(FocusError::NoSingleProjection { reason: "the light lies in the body or sees it over a half-space" })?;
     Ok(map_fit(&sv, light, &f))
 }
@@ -256,7 +282,10 @@ fn input_magnitude(view: &Frustum, l: DVec3, scene: &Aabb) -> f64 {
 /// out: a single map of a light outside the scene box).
 fn point_maps(out: &mut FocusResult, sv: &SplitView, view: &Frustum, l: DVec3, scene: &Aabb, split: usize) -> Result<(), FocusError> {
     let r = sv.settings.light_near.radius(light_reach(view, l, scene));
-    if sv.settings.point == PointMode::Cube {
+    // NOTE: a stable map needs a frame fixed in the world; a single map's
+    // axis follows the body, the cube's faces do not.
+    let stable = sv.settings.stable && matches!(sv.settings.method, Method::Uniform | Method::Auto);
+    if sv.settings.point == PointMode::Cube || stable {
         return cube_faces(out, sv, view, l, scene, split, r);
     }
     let light = Light::Point { position: l };
@@ -288,7 +317,7 @@ fn point_maps(out: &mut FocusResult, sv: &SplitView, view: &Frustum, l: DVec3, s
             }
             Truncation::NoCone => {}
         }
-    } else if finish(map, sv) {
+    } else if finish(map, sv) && !wider_than_a_face(map, sv, l) {
         return Ok(());
     }
     // The light is inside the view frustum (or sees H over more than a
@@ -296,6 +325,30 @@ fn point_maps(out: &mut FocusResult, sv: &SplitView, view: &Frustum, l: DVec3, s
     out.pop();
     out.notes.insert(Notes::POINT_AS_CUBE);
     cube_faces(out, sv, view, l, scene, split, r)
+}
+
+/// Whether the single map of a point light at `l` sees its body over a cone
+/// wider than a cube face's: the narrowest cone from `l` around the body
+/// (about its maximin axis, see [`cone_axis`]) has a vertex farther
+/// than `√2`, the tangent of a face's corner, off its axis. Then six faces
+/// sample it better: a light just outside the scene box, above a wide view,
+/// would otherwise get one map spanning nearly a half-space, at hundreds of
+/// screen pixels per texel. PSM keeps its map: it samples in the camera's
+/// post-perspective space, where the light's cone is not what counts.
+fn wider_than_a_face(map: &ShadowMap, sv: &SplitView, l: DVec3) -> bool {
+    if !map.is_active() || sv.settings.method == Method::Psm {
+        return false;
+    }
+    let mut units = [DVec3::ZERO; MAX_VERTICES];
+    let mut n = 0;
+    for v in map.body.vertices().iter().filter(|v| **v != l) {
+        units[n] = (*v - l).normalize();
+        n += 1;
+    }
+    let units = &units[..n];
+    let Some(a) = cone_axis(units) else { return true };
+    // NOTE: tan² > 2 as |u × a|² > 2 (a·u)², without a division.
+    units.iter().any(|u| u.cross(a).length_squared() > 2.0 * a.dot(*u).powi(2))
 }
 
 // NOTE: returned once per point-light split, never stored: the size

@@ -8,8 +8,8 @@
 //! shadow maps (PSM, including inverted lights and the virtual camera
 //! shift), light-space perspective shadow maps (LiSPSM) and trapezoidal
 //! shadow maps (TSM), optionally per parallel split of the view depth range
-//! (PSSM) and, for directional lights with the uniform method, texel-snapped
-//! and camera-rotation invariant (`stable`).
+//! (PSSM) and, with the uniform method, texel-snapped with quantised
+//! extents (`stable`).
 //!
 //! # Conventions
 //!
@@ -108,6 +108,7 @@ mod serde_float;
 mod settings;
 mod split_view;
 mod splits;
+mod state;
 mod view;
 mod visible_depth;
 
@@ -115,7 +116,7 @@ pub use camera::{camera_from_corners, RecoveredCamera};
 pub use clip::{ClipConvention, DepthRange, UvOrigin};
 pub use cull::{caster_planes, cull_casters, CasterRegion, MAX_REGION_PLANES};
 pub use error::FocusError;
-pub use fit::{fit, fit_frustum, fit_map, fit_prepared};
+pub use fit::{fit, fit_frustum, fit_map, fit_prepared, fit_prepared_with_state};
 pub use frame::S0 as ORIENTATION_BLEND_SIN;
 pub use result::{CubeFace, DepthTest, FocusResult, MapFit, MapState, Notes, ShadowMap, Skipped};
 pub use settings::{
@@ -123,6 +124,7 @@ pub use settings::{
     TsmSettings, WarpDirection,
 };
 pub use splits::{clip_depth, split_depths};
+pub use state::FitState;
 pub use view::PreparedView;
 pub use visible_depth::visible_depth_after_motion;
 

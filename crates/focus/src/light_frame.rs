@@ -26,14 +26,19 @@ pub(crate) fn view_from_world(light: &Light, clip_from_world: &DMat4, body: &Bod
             (position, if g == DVec3::ZERO { DVec3::NEG_Z } else { g })
         }
     };
-    // NOTE: right = forward × y, normalised, then up = right × forward: both
-    // unit and perpendicular to rounding, as long as y is not within 2⁻²⁰
-    // of the axis (then any perpendicular will do: the map's y row has
-    // almost no component across the axis).
+    // NOTE: right = forward × y, cleared of any component along forward (a
+    // short cross product, y near the axis, carries its rounding there) and
+    // normalised, then up = right × forward: both unit and perpendicular to
+    // rounding, as long as y is not within 2⁻²⁰ of the axis (then any
+    // perpendicular will do: the map's y row has almost no component across
+    // the axis).
     let y = m.row(1).truncate();
     let across = forward.cross(y);
-    let right =
-        if across.length() > y.length() * (1.0 / (1u64 << 20) as f64) { across.normalize() } else { forward.any_orthonormal_vector() };
+    let right = if across.length() > y.length() * (1.0 / (1u64 << 20) as f64) {
+        (across - forward * forward.dot(across)).normalize()
+    } else {
+        forward.any_orthonormal_vector()
+    };
     let up = right.cross(forward);
     // Rows: right, up and −forward, each as a plane through the eye.
     let row = |a: DVec3| a.extend(-a.dot(eye));

@@ -230,6 +230,10 @@ pub struct ShadowMap {
     /// `body_valid` is false).
     pub(crate) body: Body,
     pub(crate) body_valid: bool,
+    /// A stable spot map's extent step held from the previous frame (−1:
+    /// none), and the step this fit chose (−1: not a stable spot map).
+    pub(crate) hold: i16,
+    pub(crate) step: i16,
     /// This map's share of the frame's notes and skipped work.
     pub(crate) notes: Notes,
     pub(crate) skipped: Skipped,
@@ -246,6 +250,8 @@ impl ShadowMap {
             light: Light::Directional { direction: glam::DVec3::NEG_Y },
             body: Body::new(),
             body_valid: false,
+            hold: -1,
+            step: -1,
             notes: Notes(0),
             skipped: Skipped(0),
         }
@@ -373,7 +379,8 @@ flags! {
         /// than the uniform map's: those maps are uniform.
         PSM_FELL_BACK = 0, "psm_fell_back_to_uniform";
         /// A point light inside the view frustum cannot be seen by one
-        /// perspective map: six cube faces were used.
+        /// perspective map, or one would see its body over a cone wider
+        /// than a cube face's: six cube faces were used.
         POINT_AS_CUBE = 1, "point_light_as_cube";
         /// A point light within `light_near` of the scene box: casters that
         /// close to the light are not mapped (a perspective map cannot
@@ -383,8 +390,9 @@ flags! {
         /// uses the convention's other depth test (greater, or less with
         /// reversed-Z).
         INVERTED = 3, "inverted_light";
-        /// `stable` was requested where it does not apply (non-directional
-        /// light or non-uniform method) and was ignored.
+        /// `stable` was requested where it does not apply (a warped method,
+        /// or a map whose stable construction could not hold its body) and
+        /// was ignored.
         STABLE_IGNORED = 4, "stable_ignored";
         /// Some map's f32 matrix cannot keep its body inside the clip volume:
         /// the positions' f32 rounding (relative to `f32_origin`) is
@@ -412,6 +420,9 @@ pub struct FocusResult {
     /// The body engines' work space, shared by every map.
     focuser: Focuser,
     scratch: Body,
+    /// Per map slot, the stable extent step held from a [`crate::FitState`]
+    /// for this fit (−1 everywhere for a fit without one).
+    held: [i16; MAX_MAPS],
 }
 
 impl Default for FocusResult {
@@ -444,6 +455,7 @@ impl FocusResult {
             notes: Notes::default(),
             focuser: Focuser::new(),
             scratch: Body::new(),
+            held: [-1; MAX_MAPS],
         }
     }
 
@@ -495,12 +507,29 @@ impl FocusResult {
     }
 
     /// The next map slot, and the work space to compute its body with.
+    /// The steps to hold in the next fit (all −1: none).
+    pub(crate) fn hold_steps(&mut self, steps: &[i16; MAX_MAPS]) {
+        self.held = *steps;
+    }
+
+    /// The extent step each map slot's fit chose (−1 beyond the maps and
+    /// for maps that are not stable spot maps).
+    pub(crate) fn chosen_steps(&self) -> [i16; MAX_MAPS] {
+        let mut out = [-1; MAX_MAPS];
+        for (o, m) in out.iter_mut().zip(self.maps()) {
+            *o = if m.is_active() { m.step } else { -1 };
+        }
+        out
+    }
+
     pub(crate) fn push(&mut self) -> Option<(&mut ShadowMap, &mut Focuser)> {
         if self.len >= self.maps.len() {
             return None;
         }
         self.len += 1;
-        Some((&mut self.maps[self.len - 1], &mut self.focuser))
+        let map = &mut self.maps[self.len - 1];
+        (map.hold, map.step) = (self.held[self.len - 1], -1);
+        Some((map, &mut self.focuser))
     }
 
     pub(crate) fn pop(&mut self) {

@@ -22,8 +22,7 @@ pub enum Method {
     Tsm,
     /// Per map, whichever of the four has the least predicted maximum
     /// aliasing over the split's receivers ([`crate::MapFit::method`] says
-    /// which). With `stable` and a directional light, the stable uniform
-    /// map.
+    /// which). With `stable`, the stable uniform map.
     Auto,
 }
 
@@ -152,7 +151,8 @@ pub enum MapOrientation {
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum PointMode {
     /// One perspective map from the light toward the view; six cube faces
-    /// when the light lies in the view frustum (no single map can see it).
+    /// when the light lies in the view frustum (no single map can see it)
+    /// or one map would be wider than a cube face (a tangent above `√2`).
     Single,
     /// Six cube faces, each focused on its part of `H`.
     Cube,
@@ -242,8 +242,12 @@ pub struct FocusSettings {
     pub splits: SplitSettings,
     /// Shadow-map resolution in texels (square maps), ≥ 4.
     pub resolution: u32,
-    /// Texel-snapped, camera-rotation-invariant fitting (directional lights
-    /// with the uniform method; ignored otherwise, and said so in the plan).
+    /// Stable maps, with the uniform method (or `Auto`, which then takes
+    /// it): texel-snapped, their extent and depth range quantised, so that
+    /// from frame to frame a map moves by whole texels or not at all.
+    /// Directional lights: camera-rotation invariant; spot lights: in the
+    /// spot's own frame; point lights: six cube faces, each a stable spot.
+    /// Ignored with the other methods, and said so in the plan.
     pub stable: bool,
     /// LiSPSM parameters.
     pub lispsm: LispsmSettings,

@@ -209,6 +209,52 @@ fn stable_maps_snap_to_texels_and_ignore_rotation() {
     assert!(out.notes.contains(Notes::STABLE_IGNORED));
 }
 
+/// The texel scale `1/S` of a map's image `x` row: its part across the
+/// light's axis (the `w` row's direction).
+fn image_scale(m: &glam::DMat4) -> f64 {
+    let (x, a) = (m.row(0).truncate(), m.row(3).truncate().normalize());
+    (x - a * x.dot(a)).length()
+}
+
+/// A stable spot map whose body hovers at a boundary of its extent ladder:
+/// without a `FitState` its texel grid switches every frame, with one it
+/// holds (the looser step keeps the body), and every frame keeps its body.
+#[test]
+fn fit_state_holds_a_stable_spot_map_at_a_step_boundary() {
+    let apex = DVec3::new(0.0, 40.0, 0.0);
+    let cone = Camera { eye: apex, forward: DVec3::NEG_Y, up: DVec3::Z, fovy: 1.2, aspect: 1.0, near: 1.0, far: 100.0 };
+    let spot = Light::spot(apex, Frustum::from_camera(&cone).unwrap()).unwrap();
+    let scene = Aabb::new(DVec3::new(-50.0, -1.0, -50.0), DVec3::new(50.0, 10.0, 50.0)).unwrap();
+    let s = FocusSettings { stable: true, ..FocusSettings::default() };
+    let cam = |far: f64| Camera {
+        eye: DVec3::new(0.0, 5.0, -30.0),
+        forward: DVec3::new(0.0, -0.3, 1.0),
+        up: DVec3::Y,
+        fovy: 0.8,
+        aspect: 1.5,
+        near: 0.5,
+        far,
+    };
+    let scale = |far: f64| image_scale(&fit1(&cam(far), &spot, &scene, &s).maps()[0].fit.clip_from_world);
+    // Two depth ranges a little apart whose bodies take different steps.
+    let far = (0..320).map(|i| 20.0 + 0.25 * i as f64).find(|&f| scale(f) != scale(f + 0.25)).expect("a step boundary in range");
+    let frames = [far, far + 0.25, far, far + 0.25, far, far + 0.25];
+    let stateless: Vec<f64> = frames.iter().map(|&f| scale(f)).collect();
+    assert!(stateless.windows(2).all(|w| w[0] != w[1]), "stateless scales {stateless:?}");
+    let mut state = FitState::default();
+    let mut held = Vec::new();
+    for &f in &frames {
+        let mut out = FocusResult::new();
+        fit_prepared_with_state(&PreparedView::new(&cam(f), &s).unwrap(), &spot, &scene, &mut state, &mut out).unwrap();
+        let m = &out.maps()[0];
+        assert!(!m.notes().contains(Notes::STABLE_IGNORED));
+        assert!(m.body().vertices().iter().all(|p| inside_map_f64(&m.fit, *p)), "body outside the held map at far {f}");
+        held.push(image_scale(&m.fit.clip_from_world));
+    }
+    assert!(held[1..].windows(2).all(|w| w[0] == w[1]), "held scales {held:?}");
+    assert_eq!(held[1], stateless[1], "the held step is the looser one");
+}
+
 #[test]
 fn empty_body_gives_an_explicit_empty_map() {
     // Scene behind the camera, light travelling from the front toward the

@@ -483,29 +483,101 @@ proptest! {
     }
 
     /// Auto's every map is, bit for bit, the map one of the four methods
-    /// fits for the same body, and says which.
+    /// fits for the same body (with `stable`, the stable uniform one), and
+    /// says which.
     #[test]
     fn auto_picks_one_of_the_four_maps((cam, scene, light) in frame_strategy(), s in settings_strategy()) {
         let auto = FocusSettings { method: Method::Auto, ..s };
         let mut a = FocusResult::new();
         fit(&cam, &light, &scene, &auto, &mut a).map_err(|e| TestCaseError::fail(format!("{e}")))?;
         let mut fits = Vec::new();
-        for method in [Method::Uniform, Method::Psm, Method::Lispsm, Method::Tsm] {
+        let mut psm_unmatched = false;
+        // Stable, Auto is the stable uniform map (a point light's on the
+        // cube, which the other methods need not use).
+        let methods: &[Method] = if s.stable { &[Method::Uniform] } else { &[Method::Uniform, Method::Psm, Method::Lispsm, Method::Tsm] };
+        for &method in methods {
             let mut r = FocusResult::new();
             let mine = FocusSettings { method, ..s };
             // PSM narrows the visible range only when asked (psm.near/far), so its bodies are Auto's.
             fit(&cam, &light, &scene, &mine, &mut r).map_err(|e| TestCaseError::fail(format!("{e}")))?;
+            // NOTE: PSM keeps one map for a point light that the others
+            // (and Auto) cover with six faces, a single map being wider
+            // than a face; Auto's PSM faces then have no PSM fit to match.
+            if method == Method::Psm && r.maps().len() != a.maps().len() {
+                prop_assert!(a.notes.contains(Notes::POINT_AS_CUBE) && !r.notes.contains(Notes::POINT_AS_CUBE));
+                psm_unmatched = true;
+                continue;
+            }
             prop_assert_eq!(r.maps().len(), a.maps().len());
             fits.push(r);
         }
         for (i, m) in a.maps().iter().enumerate().filter(|(_, m)| m.is_active()) {
             prop_assert!(m.fit.method != Method::Auto);
+            if psm_unmatched && m.fit.method == Method::Psm {
+                continue;
+            }
             let bits = m.fit.clip_from_world.to_cols_array().map(f64::to_bits);
             let same = fits.iter().any(|r| {
                 let c = &r.maps()[i].fit;
                 c.clip_from_world.to_cols_array().map(f64::to_bits) == bits && c.method == m.fit.method
             });
             prop_assert!(same, "map {i} ({:?}) is none of the four methods' maps", m.fit.method);
+        }
+    }
+
+    /// Stable maps over a camera path (eight frames, the eye and the view
+    /// direction moving a little each frame), fitted with and without a
+    /// `FitState`: every frame passes `check_frame` (H in every map), and
+    /// between two frames a stable map that keeps its texel grid (the same
+    /// `w` row, image rows that differ by a multiple of it) moves by whole
+    /// texels.
+    #[test]
+    fn stable_maps_move_by_whole_texels((cam, scene, light) in frame_strategy(), s in settings_strategy(), step in (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64), turn in -0.02..0.02f64, held in any::<bool>()) {
+        let s = FocusSettings { stable: true, method: Method::Uniform, ..s };
+        let res = s.resolution as f64;
+        let scale = (scene.max - scene.min).length() * 1e-3;
+        let mut prev: Option<FocusResult> = None;
+        let mut state = FitState::default();
+        for k in 0..8 {
+            let t = k as f64;
+            let rot = glam::DQuat::from_rotation_y(turn * t);
+            let c = Camera { eye: cam.eye + DVec3::from(step) * (scale * t), forward: rot * cam.forward, up: rot * cam.up, ..cam };
+            let mut out = FocusResult::new();
+            let view = PreparedView::new(&c, &s).map_err(|e| TestCaseError::fail(format!("{e}")))?;
+            let fitted = if held { fit_prepared_with_state(&view, &light, &scene, &mut state, &mut out) } else { fit_prepared(&view, &light, &scene, &mut out) };
+            fitted.map_err(|e| TestCaseError::fail(format!("{e}")))?;
+            check_frame(&c, &light, &scene, &s, &out)?;
+            if let Some(p) = &prev {
+                prop_assert_eq!(p.maps().len(), out.maps().len());
+                for (a, b) in p.maps().iter().zip(out.maps()) {
+                    if !(a.is_active() && b.is_active()) || a.notes().contains(Notes::STABLE_IGNORED) || b.notes().contains(Notes::STABLE_IGNORED) {
+                        continue;
+                    }
+                    let (ma, mb) = (&a.fit.clip_from_world, &b.fit.clip_from_world);
+                    let w = ma.row(3);
+                    if mb.row(3) != w {
+                        continue;
+                    }
+                    for r in [0, 1] {
+                        // d = δ·w when the grid is kept; δ in texels is
+                        // δ·res/2. NOTE: δ is read from the xyz parts (the
+                        // directions, of the map's own scale) where w has
+                        // them; the fourth entries carry the light's
+                        // position, up to 1e8 here, and its rounding.
+                        let (ra, rb) = (ma.row(r), mb.row(r));
+                        let d = rb - ra;
+                        let (dx, wx) = (d.truncate(), w.truncate());
+                        let size = ra.truncate().length().max(rb.truncate().length());
+                        let delta = if wx == DVec3::ZERO { d.w / w.w } else { dx.dot(wx) / wx.length_squared() };
+                        if (dx - wx * delta).length() > 1e-9 * size {
+                            continue; // the extent or the frame changed: a new grid
+                        }
+                        let texels = delta * res / 2.0;
+                        prop_assert!((texels - texels.round()).abs() <= 1e-6 * (1.0 + texels.abs()), "row {} moved by {} texels", r, texels);
+                    }
+                }
+            }
+            prev = Some(out);
         }
     }
 

@@ -14,11 +14,11 @@ mod screen;
 pub use path::{parse_path, path_camera, CameraPath};
 
 use super::fit::FitOptions;
-use super::overrides::Frame;
+use super::overrides::{parse_light, Frame, LightOverride};
 use super::render::{frame_inputs, render_frame};
 use render::{contact_sheet, Image, Renderer, Scene};
 use serde_json::{json, Value};
-use shadowfocus_focus::{fit, FocusResult};
+use shadowfocus_focus::{fit_prepared_with_state, FitState, FocusResult, PreparedView};
 use shadowfocus_render as render;
 use std::path::Path;
 
@@ -42,6 +42,10 @@ pub struct AnimateOptions {
     /// Image size, WxH.
     #[arg(long, default_value = "320x180", value_parser = super::render::parse_size)]
     pub size: (u32, u32),
+    /// Replace the scene's light: directional:DX,DY,DZ (travel direction) |
+    /// point:X,Y,Z | spot:X,Y,Z,FX,FY,FZ,FOVY_DEG.
+    #[arg(long, value_parser = parse_light, allow_hyphen_values = true)]
+    pub light: Option<LightOverride>,
     #[command(flatten)]
     pub fit: FitOptions,
     /// Output folder: temporal.json, frames.csv, strip.png.
@@ -49,12 +53,15 @@ pub struct AnimateOptions {
     pub out: std::path::PathBuf,
 }
 
-/// Whether every active map of the frame's fit holds its body (f64, in its
-/// clip convention): `misses` counts the frames where one does not.
-fn maps_hold_their_bodies(scene: &Scene, frame: &Frame, aspect: f64, opts: &FitOptions) -> Result<bool, String> {
+/// Whether every active map of the frame's fit (from the state the frame
+/// started with) holds its body (f64, in its clip convention): `misses`
+/// counts the frames where one does not.
+fn maps_hold_their_bodies(scene: &Scene, frame: &Frame, aspect: f64, opts: &FitOptions, mut state: FitState) -> Result<bool, String> {
     let (camera, light, bounds) = frame_inputs(scene, frame, aspect)?;
     let mut result = FocusResult::new();
-    fit(&camera, &light, &bounds, &opts.settings()?, &mut result).map_err(|e| e.to_string())?;
+    let settings = opts.settings()?;
+    let view = PreparedView::new(&camera, &settings).map_err(|e| e.to_string())?;
+    fit_prepared_with_state(&view, &light, &bounds, &mut state, &mut result).map_err(|e| e.to_string())?;
     Ok(result.maps().iter().filter(|m| m.is_active()).all(|m| {
         let z_min = m.fit.clip.depth_min();
         m.body().vertices().iter().all(|p| {
@@ -79,19 +86,25 @@ pub fn animate(o: &AnimateOptions) -> Result<Value, String> {
     let mut renderer = Renderer::from_env().map_err(|e| e.to_string())?;
     std::fs::create_dir_all(&o.out).map_err(|e| e.to_string())?;
     let aspect = o.size.0 as f64 / o.size.1 as f64;
+    let light = o.light.map_or(scene.light, |l| l.resolve(&scene.bounds));
+    light.validate().map_err(|e| e.to_string())?;
     let (mut flicker, mut crawl, mut misses) = (None, crawl::Crawl::default(), 0usize);
+    // NOTE: carried from frame to frame as an engine would (stable maps'
+    // hysteresis); without --stable it holds nothing.
+    let mut state = FitState::default();
     let mut p95s = Vec::new();
     let mut rows = vec!["frame,aliasing_p95,aliasing_max,mismatch_adequate,probes_seen,maps_hold_h".to_string()];
     let mut strip = Vec::new();
     for k in 0..o.frames {
-        let frame = Frame { camera: path_camera(&scene, o.path, k, o.frames), light: scene.light };
-        let (out, _) = render_frame(&mut renderer, &scene, &frame, &o.fit, o.size, true)?;
+        let frame = Frame { camera: path_camera(&scene, o.path, k, o.frames), light };
+        let before = state;
+        let (out, _) = render_frame(&mut renderer, &scene, &frame, &o.fit, o.size, true, Some(&mut state))?;
         let screen = screen::Screen::new(&out)?;
         let truth = out.truth.as_ref().ok_or("the render has no ground truth")?;
         let probes = flicker.get_or_insert_with(|| flicker::Flicker::new(&out, truth, PROBE_STRIDE));
         let seen = probes.frame(&out, &screen);
         crawl.frame(&out, &screen);
-        let holds = maps_hold_their_bodies(&scene, &frame, aspect, &o.fit)?;
+        let holds = maps_hold_their_bodies(&scene, &frame, aspect, &o.fit, before)?;
         misses += usize::from(!holds);
         let m = &out.metrics;
         p95s.push(m.aliasing.p95);

@@ -61,6 +61,8 @@ fn null_pointers_are_reported_not_dereferenced() {
         assert_eq!(sf_fit(ctx.0, &cam, &light, &box_, &s, m, 4, ptr::null_mut()), NULL);
         assert_eq!(sf_prepare_view(ctx.0, ptr::null(), &s), NULL);
         assert_eq!(sf_fit_light(ctx.0, &light, &box_, m, 4, ptr::null_mut()), NULL);
+        assert_eq!(sf_fit_light_held(ctx.0, &light, &box_, ptr::null_mut(), m, 4, &mut n), NULL);
+        assert_eq!(ctx.error(), "state is NULL");
         assert_eq!(sf_body(ptr::null_mut(), 0, ptr::null_mut(), 0, &mut n), NULL);
         assert_eq!(sf_body(ctx.0, 0, ptr::null_mut(), 5, &mut n), NULL);
         assert_eq!(sf_view_body(ctx.0, ptr::null_mut(), 0, ptr::null_mut()), NULL);
@@ -69,6 +71,7 @@ fn null_pointers_are_reported_not_dereferenced() {
         // NULL is harmless where it is documented to be.
         sf_context_free(ptr::null_mut());
         sf_settings_default(ptr::null_mut());
+        sf_fit_state_init(ptr::null_mut());
         assert_eq!(CStr::from_ptr(sf_last_error(ptr::null())).to_bytes(), b"");
         assert!(!CStr::from_ptr(sf_version()).to_bytes().is_empty());
     }

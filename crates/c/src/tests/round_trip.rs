@@ -3,8 +3,8 @@
 use super::common::*;
 use crate::*;
 use shadowfocus_focus::{
-    caster_planes, cull_casters, fit, ClipConvention, CubeFace, DepthRange, DepthTest, FocusResult, FocusSettings, Footprint, Method,
-    PointMode, ShadowMap, UvOrigin,
+    caster_planes, cull_casters, fit, fit_prepared_with_state, ClipConvention, CubeFace, DepthRange, DepthTest, FitState, FocusResult,
+    FocusSettings, Footprint, Method, PointMode, PreparedView, ShadowMap, UvOrigin,
 };
 use shadowfocus_geom::{Aabb, Body, Focuser, Frustum};
 use std::ffi::c_int;
@@ -157,6 +157,44 @@ fn sf_fit_light_from_a_prepared_view_gives_the_maps_of_sf_fit() {
             for i in 0..n {
                 assert_eq!(bits(&got[i].clip_from_world), bits(&want[i].clip_from_world));
                 assert_eq!(bits32(&got[i].clip_from_world_f32), bits32(&want[i].clip_from_world_f32));
+            }
+        }
+    }
+}
+
+/// sf_fit_light_held over a camera path gives, frame after frame, the maps
+/// of fit_prepared_with_state with a state carried alongside (stable and
+/// not, every light kind), and its state is the library's.
+#[test]
+fn sf_fit_light_held_carries_the_state_of_the_library() {
+    let ctx = Ctx::new();
+    for stable in [0, 1] {
+        let s = SfSettings { stable, ..settings(SfMethod::SF_METHOD_UNIFORM, 2) };
+        let rs = FocusSettings { stable: stable != 0, ..rust_settings(SfMethod::SF_METHOD_UNIFORM, 2) };
+        for light in lights() {
+            let mut c_state = SfFitState { steps: [7; 48] };
+            // SAFETY: a valid pointer.
+            unsafe { sf_fit_state_init(&mut c_state) };
+            let mut state = FitState::default();
+            assert_eq!(c_state.steps, state.to_steps());
+            let mut got = vec![canary_map(); SF_MAX_MAPS as usize];
+            for k in 0..12 {
+                let cam = camera(k);
+                let mut m = 0;
+                // SAFETY: valid pointers; `got` holds SF_MAX_MAPS maps.
+                let rc = unsafe {
+                    assert_eq!(sf_prepare_view(ctx.0, &cam, &s), 0, "{}", ctx.error());
+                    sf_fit_light_held(ctx.0, &light, &scene(), &mut c_state, got.as_mut_ptr(), got.len(), &mut m)
+                };
+                assert_eq!(rc, 0, "{}", ctx.error());
+                let view = PreparedView::new(&rust_camera(&cam), &rs).unwrap();
+                let mut want = FocusResult::new();
+                fit_prepared_with_state(&view, &rust_light(&light), &rust_scene(), &mut state, &mut want).unwrap();
+                assert_eq!(m, want.maps().len());
+                for (i, r) in want.maps().iter().enumerate() {
+                    assert_same(&got[i], r, &format!("frame {k}, map {i}"));
+                }
+                assert_eq!(c_state.steps, state.to_steps(), "frame {k}");
             }
         }
     }

@@ -31,7 +31,7 @@ pub(super) fn auto(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted>
     for method in CANDIDATES {
         let settings = FocusSettings { method, ..*sv.settings };
         let view = SplitView { camera: sv.camera, basis: sv.basis, settings: &settings };
-        let Some(f) = fit_body(&view, light, body) else { continue };
+        let Some(f) = fit_body(&view, light, body, -1) else { continue };
         let predicted = if method == Method::Uniform { samples.judge(&f.m, lp) } else { samples.predict(&f.m) };
         let Some(p) = predicted else {
             // Nothing to judge by: the uniform map, or the first that fits.

@@ -43,6 +43,9 @@ pub(crate) struct Fitted {
     pub warp_limited: bool,
     pub psm_fell_back: bool,
     pub stable_ignored: bool,
+    /// A stable spot map's extent step (see `stable::stable_spot`); −1 for
+    /// every other map.
+    pub stable_step: i16,
     /// The f32 matrix keeps the body inside (see `project::crop`).
     pub f32_exact: bool,
     /// PSM's light is inverted: the depth row was built to grow toward the
@@ -62,6 +65,7 @@ impl Fitted {
             warp_limited: false,
             psm_fell_back: false,
             stable_ignored: false,
+            stable_step: -1,
             inverted: false,
         }
     }
@@ -90,12 +94,17 @@ fn spot_axis(light: &Light) -> Option<DVec3> {
     }
 }
 
-/// Fits `body` (non-empty) for `light` with the configured method.
-pub(crate) fn fit_body(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted> {
+/// Fits `body` (non-empty) for `light` with the configured method; `hold`
+/// is the extent step a stable spot map had in the previous frame (−1:
+/// none, see [`crate::FitState`]).
+pub(crate) fn fit_body(sv: &SplitView, light: &Light, body: &Body, hold: i16) -> Option<Fitted> {
     let s = sv.settings;
     let directional = matches!(light, Light::Directional { .. });
+    let spot = matches!(light, Light::Spot { .. });
+    let stable = s.stable && matches!(s.method, Method::Uniform | Method::Auto);
     let mut out = match s.method {
-        Method::Uniform if s.stable && directional => stable::stable(sv, light, body),
+        _ if stable && directional => stable::stable(sv, light, body),
+        _ if stable && spot => stable::stable_spot(sv, light, body, hold),
         Method::Uniform => uniform::uniform(sv, light, body),
         Method::Psm => match psm::psm(sv, light, body) {
             Some(f) => Some(f),
@@ -106,11 +115,11 @@ pub(crate) fn fit_body(sv: &SplitView, light: &Light, body: &Body) -> Option<Fit
         },
         Method::Lispsm => lispsm::lispsm(sv, light, body),
         Method::Tsm => tsm::tsm(sv, light, body),
-        // The stable uniform map is the only stable one.
-        Method::Auto if s.stable && directional => stable::stable(sv, light, body),
         Method::Auto => auto::auto(sv, light, body),
     }?;
-    out.stable_ignored |= s.stable && !(matches!(s.method, Method::Uniform | Method::Auto) && directional);
+    // The stable uniform maps are the only stable ones (a point light's are
+    // its cube faces, which are spots).
+    out.stable_ignored |= s.stable && !(stable && (directional || spot));
     Some(out)
 }
 

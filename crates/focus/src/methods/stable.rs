@@ -1,5 +1,12 @@
-//! The stable uniform map of a directional light: texel-snapped and
-//! invariant under camera rotation.
+//! Stable uniform maps: texel-snapped, with an extent and a depth range
+//! that change only in powers of two, so that from one frame to the next
+//! the map moves by whole texels or not at all.
+//!
+//! - A directional light's map ([`stable`]): orthographic, its extent
+//!   invariant under camera rotation.
+//! - A spot light's map, and each face of a point light's cube
+//!   ([`stable_spot`]): perspective in the spot's own frame, fixed in the
+//!   world, its extent a power-of-two fraction of the spot's.
 
 use super::uniform::uniform;
 use super::{Fitted, SplitView};
@@ -10,12 +17,20 @@ use crate::settings::Method;
 use glam::{DVec3, DVec4};
 use shadowfocus_geom::{unit_direction, Body, Light, UNIT_ROUNDOFF_F32};
 
-/// Largest absolute coordinate, quantised up to a power of two.
+/// `x > 0` rounded up to a power of two.
 fn pow2_ceil(x: f64) -> f64 {
     if !(x > 0.0) {
         return f64::MIN_POSITIVE;
     }
     2f64.powi(x.log2().ceil() as i32)
+}
+
+/// `x > 0` rounded down to a power of two.
+fn pow2_floor(x: f64) -> f64 {
+    if !(x > 0.0) {
+        return f64::MIN_POSITIVE;
+    }
+    2f64.powi(x.log2().floor() as i32)
 }
 
 /// Stable (texel-snapped, camera-rotation-invariant) orthographic map for a
@@ -68,9 +83,20 @@ pub(super) fn stable(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitte
     }
     let zc = 0.5 * (zlo + zhi);
     let mut zh = (0.5 * (zhi - zlo)).max((zlo.abs().max(zhi.abs()) + r) * (1.0 / (1u64 << 20) as f64));
+    // NOTE: a body flat across the light has almost no depth; the range is
+    // grown to what f32 resolves at these magnitudes (σ ≤ 1/32 below), as
+    // the crop grows a degenerate body's, so that f32 keeps it.
+    zh = zh.max(256.0 * u * (mag + (zc - d.dot(o)).abs()));
     let sigma = (8.0 * u * (mag + (zc - d.dot(o)).abs() + zh) / zh).max(4.0 * u);
     let f32_exact = sigma <= 1.0 / 16.0 && m <= 0.25 * r;
     zh *= 1.0 + 8.0 * sigma.min(1.0 / 16.0);
+    // The depth range quantised: half-depth `2^k ≥ 2 zh`, centre on a grid
+    // of `2^(k−1)`. The snap moves the centre by at most `2^(k−2)`, so
+    // `zc' ± 2^k ⊇ zc ± (2^k − 2^(k−2)) ⊇ zc ± zh`: a body moving within the
+    // same quantum keeps the same depth row.
+    let zh_q = pow2_ceil(2.0 * zh);
+    let step = 0.5 * zh_q;
+    let (zc, zh) = ((zc / step).round() * step, zh_q);
     if !(zh.is_finite() && half.is_finite()) {
         return None;
     }
@@ -114,4 +140,125 @@ fn depth_row(clip: ClipConvention, d: DVec3, zc: f64, zh: f64) -> DVec4 {
         (DepthRange::MinusOneToOne, false) => DVec4::new(d.x, d.y, d.z, -zc) / zh,
         (DepthRange::MinusOneToOne, true) => DVec4::new(-d.x, -d.y, -d.z, zc) / zh,
     }
+}
+
+/// Extents of a stable spot map per halving: each is `2^(1/4)` times the
+/// next, so that the quantisation costs at most that factor in texel size.
+const STEPS_PER_OCTAVE: f64 = 4.0;
+/// The finest extent, `T·2⁻⁶⁰`.
+const MAX_STEP: f64 = 60.0 * STEPS_PER_OCTAVE;
+
+/// Stable perspective map of a spot light (a cube face is one): the image
+/// in the spot's own frame, fixed in the world, so that the camera only
+/// moves the body's image, never the texel grid.
+///
+/// Frame: axis `a` from the apex to the far face's centre, up `u` along the
+/// near face's `−u → +u` edge (made orthogonal to `a`), right `a × u`. A
+/// point `p` has image coordinates `ξ = r·(p − l)/w`, `η = u·(p − l)/w`,
+/// `w = a·(p − l)`; the spot's own image lies in `[−T, T]²`, `T` the
+/// largest `|ξ|`, `|η|` of its far corners grown by 2⁻¹⁰.
+///
+/// Extent: half-size `S = T·2^(−k/4)` for the largest whole `k` at which the
+/// body's image box (half-size `b`) still fits after the snap, `b + S/res + S·2⁻¹⁶
+/// ≤ S` (the last term a rounding allowance); the centre is rounded to the
+/// texel grid `2S/res`, anchored at the axis (`k = 0`: the spot's whole
+/// image, centred on the axis). So from frame to frame the map is the same
+/// grid translated by whole texels while `k` holds. With a
+/// [`crate::FitState`], `k` keeps last frame's value while the body still
+/// fits it and it is at most one step looser than the tightest: a body
+/// whose size hovers at a step's boundary does not switch every frame.
+///
+/// Depth: perspective, `D/W = f/(f − n)·(1 − n/w)` with `n`, `f` the
+/// body's nearest and farthest `w` rounded down and up to powers of two.
+///
+/// The construction is checked as [`stable`]'s is, every vertex inside by
+/// more than twice its f64 rounding bound, and `f32_exact` is the same test
+/// with the f32 matrix's bound (positions relative to the f32 origin);
+/// where the first fails, the uniform fit, and the plan says that
+/// stability was given up.
+pub(super) fn stable_spot(sv: &SplitView, light: &Light, body: &Body, hold: i16) -> Option<Fitted> {
+    let Light::Spot { position: l, frustum } = light else { return uniform(sv, light, body) };
+    let c = frustum.corners();
+    let a = ((c[4] + c[5] + c[6] + c[7]) * 0.25 - *l).normalize();
+    let up = c[3] - c[0];
+    let u = (up - a * a.dot(up)).normalize();
+    let r = a.cross(u);
+    let image = |p: DVec3| {
+        let q = p - *l;
+        let w = a.dot(q);
+        (r.dot(q) / w, u.dot(q) / w, w)
+    };
+    // NOTE: grown by 2⁻¹⁰ so that the vertices of a body that fills the
+    // spot (they lie on its faces, up to their rounding) stay inside.
+    let t = c[4..].iter().map(|p| image(*p)).fold(0.0f64, |m, (x, y, _)| m.max(x.abs()).max(y.abs())) * (1.0 + 1.0 / 1024.0);
+    let verts = body.vertices();
+    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    for p in verts {
+        let (x, y, w) = image(*p);
+        lo = lo.min(DVec3::new(x, y, w));
+        hi = hi.max(DVec3::new(x, y, w));
+    }
+    if !(lo.z > 0.0 && t > 0.0 && (hi - lo).is_finite()) {
+        return uniform(sv, light, body);
+    }
+    let res = sv.settings.resolution as f64;
+    let b = 0.5 * (hi.x - lo.x).max(hi.y - lo.y);
+    let room = 1.0 - 1.0 / res - 1.0 / (1u64 << 16) as f64;
+    let tightest = if b > 0.0 { (STEPS_PER_OCTAVE * (t * room / b).log2()).floor().clamp(0.0, MAX_STEP) } else { MAX_STEP };
+    // Hysteresis: last frame's step while the body still fits it and it is
+    // at most one step looser than the tightest.
+    let held = f64::from(hold);
+    let k = if hold >= 0 && held <= tightest && tightest - held <= 1.0 { held } else { tightest };
+    let s = t * (-k / STEPS_PER_OCTAVE).exp2();
+    let (sx, sy) = if k == 0.0 {
+        (0.0, 0.0)
+    } else {
+        let texel = 2.0 * s / res;
+        ((0.5 * (lo.x + hi.x) / texel).round() * texel, (0.5 * (lo.y + hi.y) / texel).round() * texel)
+    };
+    let (n, f) = (pow2_floor(lo.z), pow2_ceil(hi.z).max(2.0 * pow2_floor(lo.z)));
+    let w_row = DVec4::new(a.x, a.y, a.z, -a.dot(*l));
+    let row = |e: DVec3, shift: f64| (DVec4::new(e.x, e.y, e.z, -e.dot(*l)) - w_row * shift) / s;
+    let d = (w_row - DVec4::new(0.0, 0.0, 0.0, n)) * (f / (f - n));
+    let mm = from_rows(row(r, sx), row(u, sy), convention_row(sv.settings.clip, d, w_row), w_row);
+    // NOTE: checked with the `[0, 1]` row `d` and twice the rounding bound:
+    // then every convention's row (`d`, `w − d`, `2d − w`, `w − 2d`, whose
+    // rounding is at most twice `d`'s plus `w`'s) holds the body too, and
+    // the outcome — the fallback, `f32_exact` — is the same in every
+    // convention.
+    let canonical = from_rows(mm.row(0), mm.row(1), d, w_row);
+    if !(mm.is_finite() && inside_by(&canonical, verts, 0.0, DVec3::ZERO, 16.0 * f64::EPSILON)) {
+        return uniform(sv, light, body).map(|mut f| {
+            f.stable_ignored = true;
+            f
+        });
+    }
+    let o = sv.settings.f32_origin;
+    let f32_exact = inside_by(&(canonical * glam::DMat4::from_translation(o)), verts, 0.0, o, 16.0 * UNIT_ROUNDOFF_F32);
+    let mut fitted = Fitted::plain(Cropped { m: mm, f32_exact }, Method::Uniform);
+    fitted.stable_step = k as i16;
+    Some(fitted)
+}
+
+/// The row of the convention for the `[0, 1]` depth row `d` (`0 ≤ d ≤ w`):
+/// `d`, `w − d`, `2d − w` or `w − 2d` (see [`crate::clip`]).
+fn convention_row(clip: ClipConvention, d: DVec4, w: DVec4) -> DVec4 {
+    match (clip.depth, clip.reversed_z) {
+        (DepthRange::ZeroToOne, false) => d,
+        (DepthRange::ZeroToOne, true) => w - d,
+        (DepthRange::MinusOneToOne, false) => d * 2.0 - w,
+        (DepthRange::MinusOneToOne, true) => w - d * 2.0,
+    }
+}
+
+/// Every vertex inside the clip volume of `m` (applied to `p − origin`) by
+/// more than the rounding bound `eps·Σ|m_rj||p_j|` of its clip coordinates.
+fn inside_by(m: &glam::DMat4, verts: &[DVec3], z_min: f64, origin: DVec3, eps: f64) -> bool {
+    verts.iter().all(|p| {
+        let hp = h(*p - origin);
+        let q = *m * hp;
+        let e = |r: usize| m.row(r).abs().dot(hp.abs()) * eps;
+        let w = q.w - e(3);
+        w > 0.0 && q.x.abs() + e(0) <= w && q.y.abs() + e(1) <= w && q.z - e(2) >= z_min * q.w + e(3) && q.z + e(2) <= w
+    })
 }

@@ -72,7 +72,8 @@ const WARP_STEPS: i32 = 5;
 /// The warp of `m` by `w`, or a weaker one, or the uniform map of the
 /// central projection `central`: whichever is strongest among those whose
 /// predicted aliasing ([`Samples`]) is no worse than the uniform map's
-/// ([`Predicted::no_worse_than`]). Warps never lose to the uniform map by
+/// ([`Predicted::no_worse_than`]) and that keep the f32 guarantee where the
+/// uniform map keeps it. Warps never lose to the uniform map by
 /// construction; the weakening steps (ε, ε/2, …, ε/2^(WARP_STEPS−1), then
 /// none) keep the choice close to continuous where the prediction crosses
 /// over.
@@ -113,7 +114,10 @@ fn choose_warp(sv: &SplitView, light: &Light, body: &Body, central: &DMat4, m: &
         if !better {
             continue;
         }
-        if let Some(cropped) = crop(&warped, verts, s.f32_origin, s.clip) {
+        // NOTE: a strong warp can make w all but vanish at a vertex next to
+        // the apex, below what f32 resolves; a warp may not cost the f32
+        // guarantee that the uniform map keeps, so a weaker one is tried.
+        if let Some(cropped) = crop(&warped, verts, s.f32_origin, s.clip).filter(|c| c.f32_exact || !reference.f32_exact) {
             let mut out = Fitted::plain(cropped, s.method);
             out.warp_near = 1.0 / epsilon;
             out.warp_limited = k > 0;
