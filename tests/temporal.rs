@@ -55,6 +55,8 @@ fn run_in(scene: &str, light: Option<LightOverride>, stable: bool, dir: &str) ->
     let o = AnimateOptions { scene: scene.into(), path: CameraPath::Orbit, frames: 24, size: (320, 180), light, fit, out: out.clone() };
     let summary = animate(&o).unwrap();
     assert!(out.join("strip.png").is_file() && out.join("frames.csv").is_file() && out.join("temporal.json").is_file());
+    let zoom = shadowfocus_cli::render::Image::load_png(&out.join("zoom.png")).unwrap();
+    assert!(zoom.width > 0 && zoom.height > 0, "zoom.png is an image");
     std::fs::remove_dir_all(&out).unwrap();
     summary
 }

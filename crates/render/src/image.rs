@@ -90,6 +90,29 @@ impl Image {
         std::fs::write(path, bytes).map_err(|source| RenderError::Io { path: path.to_path_buf(), source })
     }
 
+    /// The `w × h` region at `(x, y)` magnified `scale` times (nearest pixel).
+    pub fn zoom(&self, x: u32, y: u32, w: u32, h: u32, scale: u32) -> Image {
+        let mut out = Image::new(w * scale, h * scale, [0, 0, 0, 255]);
+        for j in 0..h * scale {
+            for i in 0..w * scale {
+                let (sx, sy) = (x + i / scale, y + j / scale);
+                if sx < self.width && sy < self.height {
+                    out.put(i as i64, j as i64, self.get(sx, sy));
+                }
+            }
+        }
+        out
+    }
+
+    /// Writes `frames` (all of one size) as an animated PNG, `delay_ms` per frame, looped.
+    pub fn save_animation(frames: &[Image], delay_ms: u16, path: &Path) -> Result<(), RenderError> {
+        let png_error = |reason| RenderError::Png { path: path.to_path_buf(), reason };
+        let first = frames.first().ok_or_else(|| png_error("no frames".to_string()))?;
+        let pixels: Vec<&[u8]> = frames.iter().map(|f| f.rgba.as_slice()).collect();
+        let bytes = png::encode_animated(first.width, first.height, &pixels, delay_ms).map_err(png_error)?;
+        std::fs::write(path, bytes).map_err(|source| RenderError::Io { path: path.to_path_buf(), source })
+    }
+
     pub fn load_png(path: &Path) -> Result<Image, RenderError> {
         let bytes = std::fs::read(path).map_err(|source| RenderError::Io { path: path.to_path_buf(), source })?;
         let (width, height, rgba) = png::decode_rgba(&bytes).map_err(|reason| RenderError::Png { path: path.to_path_buf(), reason })?;

@@ -26,6 +26,10 @@ use std::path::Path;
 const PROBE_STRIDE: usize = 7;
 /// Frames in the strip.
 const STRIP_FRAMES: usize = 8;
+/// The animation's region: the middle third of the frame, magnified this much.
+const ZOOM: u32 = 3;
+/// Its frame time, ms.
+const ZOOM_DELAY_MS: u16 = 100;
 
 /// `animate`'s options besides the fit's.
 #[derive(Clone, Debug, clap::Args)]
@@ -48,7 +52,7 @@ pub struct AnimateOptions {
     pub light: Option<LightOverride>,
     #[command(flatten)]
     pub fit: FitOptions,
-    /// Output folder: temporal.json, frames.csv, strip.png.
+    /// Output folder: temporal.json, frames.csv, strip.png, zoom.png.
     #[arg(long)]
     pub out: std::path::PathBuf,
 }
@@ -71,8 +75,9 @@ fn maps_hold_their_bodies(scene: &Scene, frame: &Frame, aspect: f64, opts: &FitO
     }))
 }
 
-/// Renders the path and writes `temporal.json`, `frames.csv` and `strip.png`
-/// into `out`; returns the summary.
+/// Renders the path and writes `temporal.json`, `frames.csv`, `strip.png`
+/// and `zoom.png` (the middle third of every frame, magnified, as an
+/// animated PNG) into `out`; returns the summary.
 pub fn animate(o: &AnimateOptions) -> Result<Value, String> {
     if o.frames < 2 {
         return Err("--frames: at least 2 frames are needed to compare one with the next".into());
@@ -95,6 +100,7 @@ pub fn animate(o: &AnimateOptions) -> Result<Value, String> {
     let mut p95s = Vec::new();
     let mut rows = vec!["frame,aliasing_p95,aliasing_max,mismatch_adequate,probes_seen,maps_hold_h".to_string()];
     let mut strip = Vec::new();
+    let mut zoomed = Vec::with_capacity(o.frames);
     for k in 0..o.frames {
         let frame = Frame { camera: path_camera(&scene, o.path, k, o.frames), light };
         let before = state;
@@ -110,6 +116,8 @@ pub fn animate(o: &AnimateOptions) -> Result<Value, String> {
         p95s.push(m.aliasing.p95);
         let adequate = m.mismatch.map_or(f64::NAN, |x| x.rate_adequate);
         rows.push(format!("{k},{},{},{adequate},{seen},{holds}", m.aliasing.p95, m.aliasing.max));
+        let (w, h) = (out.color.width / ZOOM, out.color.height / ZOOM);
+        zoomed.push(out.color.zoom(w, h, w, h, ZOOM));
         if k % (o.frames / STRIP_FRAMES).max(1) == 0 && strip.len() < STRIP_FRAMES {
             strip.push((out.color, format!("frame {k}")));
         }
@@ -133,6 +141,7 @@ pub fn animate(o: &AnimateOptions) -> Result<Value, String> {
     });
     let refs: Vec<(&Image, &str)> = strip.iter().map(|(i, l)| (i, l.as_str())).collect();
     contact_sheet(&refs, 4).save_png(&o.out.join("strip.png")).map_err(|e| e.to_string())?;
+    Image::save_animation(&zoomed, ZOOM_DELAY_MS, &o.out.join("zoom.png")).map_err(|e| e.to_string())?;
     write(&o.out.join("frames.csv"), &(rows.join("\n") + "\n"))?;
     write(&o.out.join("temporal.json"), &serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())?)?;
     Ok(summary)
