@@ -1,12 +1,13 @@
 //! Stable uniform maps: texel-snapped, with an extent and a depth range
-//! that change only in powers of two, so that from one frame to the next
-//! the map moves by whole texels or not at all.
+//! that change only in fixed steps, so that from one frame to the next the
+//! map moves by whole texels or not at all.
 //!
 //! - A directional light's map ([`stable`]): orthographic, its extent
-//!   invariant under camera rotation.
+//!   invariant under camera rotation, its depth range on powers of two.
 //! - A spot light's map, and each face of a point light's cube
 //!   ([`stable_spot`]): perspective in the spot's own frame, fixed in the
-//!   world, its extent a power-of-two fraction of the spot's.
+//!   world, its extent a quarter-octave step below the spot's, its depth
+//!   range on powers of two.
 
 use super::uniform::uniform;
 use super::{Fitted, SplitView};
