@@ -346,9 +346,16 @@ fn wider_than_a_face(map: &ShadowMap, sv: &SplitView, l: DVec3) -> bool {
         n += 1;
     }
     let units = &units[..n];
-    let Some(a) = cone_axis(units) else { return true };
-    // NOTE: tan² > 2 as |u × a|² > 2 (a·u)², without a division.
-    units.iter().any(|u| u.cross(a).length_squared() > 2.0 * a.dot(*u).powi(2))
+    // NOTE: tan² ≤ 2 as |u × a|² ≤ 2 (a·u)² with a·u > 0, without a division.
+    let within = |a: DVec3| units.iter().all(|u| a.dot(*u) > 0.0 && u.cross(a).length_squared() <= 2.0 * a.dot(*u).powi(2));
+    // Any axis holding every direction within a face's cone proves the
+    // narrowest one does too; the map's own `w` axis usually does, and
+    // saves the search.
+    let own = map.fit.clip_from_world.row(3).truncate().normalize_or_zero();
+    if own != DVec3::ZERO && within(own) {
+        return false;
+    }
+    cone_axis(units).is_none_or(|a| !within(a))
 }
 
 // NOTE: returned once per point-light split, never stored: the size
