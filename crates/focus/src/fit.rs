@@ -284,8 +284,7 @@ fn point_maps(out: &mut FocusResult, sv: &SplitView, view: &Frustum, l: DVec3, s
     let r = sv.settings.light_near.radius(light_reach(view, l, scene));
     // NOTE: a stable map needs a frame fixed in the world; a single map's
     // axis follows the body, the cube's faces do not.
-    let stable = sv.settings.stable && matches!(sv.settings.method, Method::Uniform | Method::Auto);
-    if sv.settings.point == PointMode::Cube || stable {
+    if sv.settings.point == PointMode::Cube || sv.settings.stable_uniform() {
         return cube_faces(out, sv, view, l, scene, split, r);
     }
     let light = Light::Point { position: l };
@@ -339,13 +338,8 @@ fn wider_than_a_face(map: &ShadowMap, sv: &SplitView, l: DVec3) -> bool {
     if !map.is_active() || sv.settings.method == Method::Psm {
         return false;
     }
-    let mut units = [DVec3::ZERO; MAX_VERTICES];
-    let mut n = 0;
-    for v in map.body.vertices().iter().filter(|v| **v != l) {
-        units[n] = (*v - l).normalize();
-        n += 1;
-    }
-    let units = &units[..n];
+    let mut buf = [DVec3::ZERO; MAX_VERTICES];
+    let units = unit_directions(map.body.vertices(), l, &mut buf);
     // NOTE: tan² ≤ 2 as |u × a|² ≤ 2 (a·u)² with a·u > 0, without a division.
     let within = |a: DVec3| units.iter().all(|u| a.dot(*u) > 0.0 && u.cross(a).length_squared() <= 2.0 * a.dot(*u).powi(2));
     // Any axis holding every direction within a face's cone proves the
@@ -356,6 +350,16 @@ fn wider_than_a_face(map: &ShadowMap, sv: &SplitView, l: DVec3) -> bool {
         return false;
     }
     cone_axis(units).is_none_or(|a| !within(a))
+}
+
+/// Unit directions from `l` to the vertices other than `l` itself, in `buf`.
+fn unit_directions<'a>(verts: &[DVec3], l: DVec3, buf: &'a mut [DVec3; MAX_VERTICES]) -> &'a [DVec3] {
+    let mut n = 0;
+    for p in verts.iter().filter(|p| **p != l) {
+        buf[n] = (*p - l).normalize();
+        n += 1;
+    }
+    &buf[..n]
 }
 
 // NOTE: returned once per point-light split, never stored: the size
@@ -387,17 +391,11 @@ enum Truncation {
 /// same margin.
 fn truncation_frustum(sv: &SplitView, body: &Body, l: DVec3, r: f64, mag: f64) -> Result<Truncation, FocusError> {
     let verts = body.vertices();
-    // Unit directions to the vertices other than the light itself.
     // NOTE: normalised once here rather than in every pass of the search
     // below (three passes when the first guess holds, a sqrt and three
     // divisions per vertex each).
-    let mut units = [DVec3::ZERO; MAX_VERTICES];
-    let mut n = 0;
-    for p in verts.iter().filter(|p| **p != l) {
-        units[n] = (*p - l).normalize();
-        n += 1;
-    }
-    let units = &units[..n];
+    let mut buf = [DVec3::ZERO; MAX_VERTICES];
+    let units = unit_directions(verts, l, &mut buf);
     let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
     for u in units {
         lo = lo.min(*u);

@@ -325,6 +325,12 @@ impl Default for FocusSettings {
 }
 
 impl FocusSettings {
+    /// Whether the stable maps apply: `stable` with the uniform method, or
+    /// with `Auto`, which then takes the stable uniform map.
+    pub(crate) fn stable_uniform(&self) -> bool {
+        self.stable && matches!(self.method, Method::Uniform | Method::Auto)
+    }
+
     /// Checks every parameter against its documented range.
     pub fn validate(&self) -> Result<(), FocusError> {
         let bad = |what, reason| Err(FocusError::InvalidSettings { what, reason });

@@ -101,7 +101,7 @@ pub(crate) fn fit_body(sv: &SplitView, light: &Light, body: &Body, hold: i16) ->
     let s = sv.settings;
     let directional = matches!(light, Light::Directional { .. });
     let spot = matches!(light, Light::Spot { .. });
-    let stable = s.stable && matches!(s.method, Method::Uniform | Method::Auto);
+    let stable = s.stable_uniform();
     let mut out = match s.method {
         _ if stable && directional => stable::stable(sv, light, body),
         _ if stable && spot => stable::stable_spot(sv, light, body, hold),
