@@ -1,6 +1,7 @@
 //! Temporal stability (llvmpipe in CI): the CPU shadow lookup that
 //! `animate` measures with agrees with the rendered shadows, and stable
-//! uniform maps hold still along a camera path where plain ones flicker.
+//! uniform and LiSPSM maps hold still along a camera path where plain ones
+//! flicker.
 
 use glam::DVec3;
 use shadowfocus_cli::cli::animate::{animate, AnimateOptions, CameraPath};
@@ -50,7 +51,11 @@ fn run(stable: bool, dir: &str) -> serde_json::Value {
 }
 
 fn run_in(scene: &str, light: Option<LightOverride>, stable: bool, dir: &str) -> serde_json::Value {
-    let fit = FitOptions { method: Method::Uniform, stable, ..FitOptions::default() };
+    run_method(scene, light, Method::Uniform, stable, dir)
+}
+
+fn run_method(scene: &str, light: Option<LightOverride>, method: Method, stable: bool, dir: &str) -> serde_json::Value {
+    let fit = FitOptions { method, stable, ..FitOptions::default() };
     let out = std::env::temp_dir().join(format!("shadowfocus-temporal-{}-{dir}", std::process::id()));
     let o = AnimateOptions { scene: scene.into(), path: CameraPath::Orbit, frames: 24, size: (320, 180), light, fit, out: out.clone() };
     let summary = animate(&o).unwrap();
@@ -87,4 +92,26 @@ fn stable_spot_maps_hold_still_where_plain_ones_flicker() {
     assert!(f(&plain, "flicker_near_edges") > 0.01, "the plain spot map's edges should crawl on an orbit: {plain}");
     assert!(f(&stable, "flicker_near_edges") * 10.0 <= f(&plain, "flicker_near_edges"), "plain {plain}\nstable {stable}");
     assert_eq!(stable["misses"], 0, "{stable}");
+}
+
+/// Stable LiSPSM on the duelling-frusta orbit: its warp's lattice steps hold
+/// (the carried state does not change), so it holds still where plain
+/// LiSPSM crawls, and it keeps the warp's gain: p95 aliasing at most half
+/// the stable uniform map's and at most twice plain LiSPSM's.
+#[test]
+fn stable_lispsm_maps_hold_still_and_keep_their_gain() {
+    let _one = GPU.lock().unwrap_or_else(|e| e.into_inner());
+    let scene = "duelling-frusta";
+    let plain = run_method(scene, None, Method::Lispsm, false, "lispsm-plain");
+    let stable = run_method(scene, None, Method::Lispsm, true, "lispsm-stable");
+    let uniform = run_method(scene, None, Method::Uniform, true, "lispsm-uniform-stable");
+    let f = |s: &serde_json::Value, k: &str| s[k].as_f64().unwrap_or_else(|| panic!("{k} missing in {s}"));
+    assert!(f(&plain, "point_frames_near_edges") > 1000.0, "too few probes near edges: {plain}");
+    assert!(f(&plain, "flicker_near_edges") > 0.01, "plain LiSPSM's edges should crawl on an orbit: {plain}");
+    assert!(f(&stable, "flicker_near_edges") * 10.0 <= f(&plain, "flicker_near_edges"), "plain {plain}\nstable {stable}");
+    assert_eq!(stable["state_changes"], 0, "{stable}");
+    assert_eq!(stable["misses"], 0, "{stable}");
+    let p95 = |s: &serde_json::Value| f(s, "aliasing_p95_mean");
+    assert!(2.0 * p95(&stable) <= p95(&uniform), "stable LiSPSM {stable}\nstable uniform {uniform}");
+    assert!(p95(&stable) <= 2.0 * p95(&plain), "stable LiSPSM {stable}\nplain LiSPSM {plain}");
 }

@@ -30,7 +30,7 @@ pub struct FitOptions {
     /// Shadow-map resolution in texels per side.
     #[arg(long, default_value_t = 1024)]
     pub resolution: u32,
-    /// Texel-snapped, rotation-invariant fitting (uniform, directional).
+    /// Stable maps: texel-snapped, their extents and warps on world-fixed lattices (every method but PSM).
     #[arg(long)]
     pub stable: bool,
     /// The clip convention of the matrices: wgpu | d3d | metal | vulkan | opengl.

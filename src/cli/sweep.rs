@@ -41,7 +41,8 @@ pub struct SweepOptions {
     pub scene: String,
     /// Methods: uniform, psm, lispsm, tsm, and METHOD followed by a split
     /// count (lispsm4: four practical λ = 0.5 splits with the texel budget of
-    /// one map, i.e. R/2 per side each).
+    /// one map, i.e. R/2 per side each); with -stable, stable maps compared
+    /// with uniform-stable (lispsm-stable).
     #[arg(long, value_delimiter = ',', default_value = "uniform,psm,lispsm,tsm,lispsm4", value_parser = parse_sweep_method)]
     pub methods: Vec<SweepMethod>,
     /// Sun elevations above the horizon, degrees.
@@ -84,12 +85,19 @@ pub struct SweepMethod {
     pub splits: usize,
     /// Fit to the visible depth range of a pre-pass (`--sdsm`).
     pub sdsm: bool,
+    /// Stable maps (`-stable`): compared with `uniform-stable`.
+    pub stable: bool,
 }
 
 /// `uniform`, `psm`, `lispsm`, `tsm`, or one of them followed by a split
-/// count of 2–16 (`lispsm4`; `pssm4-lispsm`, demo's name, also reads).
+/// count of 2–16 (`lispsm4`; `pssm4-lispsm`, demo's name, also reads), each
+/// also with `-stable` for stable maps (`lispsm-stable`).
 pub fn parse_sweep_method(s: &str) -> Result<SweepMethod, String> {
     let t = s.trim().to_ascii_lowercase();
+    if let Some(base) = t.strip_suffix("-stable") {
+        let m = parse_sweep_method(base)?;
+        return Ok(SweepMethod { name: format!("{}-stable", m.name), stable: true, ..m });
+    }
     let t = match t.strip_prefix("pssm").and_then(|r| r.split_once('-')) {
         Some((k, m)) => format!("{m}{k}"),
         None => t,
@@ -104,7 +112,7 @@ pub fn parse_sweep_method(s: &str) -> Result<SweepMethod, String> {
     } else {
         k.parse::<usize>().ok().filter(|k| (1..=16).contains(k)).ok_or_else(|| format!("sweep method {s:?}: split count must be 1–16"))?
     };
-    Ok(SweepMethod { name: if splits == 1 { m.to_string() } else { format!("{m}{splits}") }, method, splits, sdsm: false })
+    Ok(SweepMethod { name: if splits == 1 { m.to_string() } else { format!("{m}{splits}") }, method, splits, sdsm: false, stable: false })
 }
 
 impl SweepMethod {
@@ -112,7 +120,14 @@ impl SweepMethod {
     /// (k splits get resolution/√k per side each: R/2 for four).
     pub fn options(&self, resolution: u32) -> FitOptions {
         let res = if self.splits == 1 { resolution } else { ((resolution as f64 / (self.splits as f64).sqrt()).round() as u32).max(1) };
-        FitOptions { method: self.method, splits: self.splits, resolution: res, sdsm: self.sdsm, ..FitOptions::default() }
+        FitOptions {
+            method: self.method,
+            splits: self.splits,
+            resolution: res,
+            sdsm: self.sdsm,
+            stable: self.stable,
+            ..FitOptions::default()
+        }
     }
 }
 
@@ -349,8 +364,12 @@ pub fn sweep(
             row.notes.extend(names("skipped").into_iter().map(|s| format!("skipped:{s}")));
             rows.push(row);
         }
-        if let Some(u) = rows[first..].iter().find(|r| r.method == "uniform").map(|r| r.aliasing) {
-            for r in &mut rows[first..] {
+        // Stable maps are compared with the stable uniform map, the others
+        // with the plain one.
+        for stable in [false, true] {
+            let reference = if stable { "uniform-stable" } else { "uniform" };
+            let Some(u) = rows[first..].iter().find(|r| r.method == reference).map(|r| r.aliasing) else { continue };
+            for r in rows[first..].iter_mut().filter(|r| r.method.ends_with("-stable") == stable) {
                 r.p95_ratio = r.aliasing.p95 / u.p95;
                 r.max_ratio = r.aliasing.max / u.max;
             }

@@ -570,6 +570,29 @@ typedef struct SfMap {
 } SfMap;
 
 /*
+ A stable LiSPSM or TSM map's lattice steps (the library's `WarpHold`):
+ integers, any values safe.
+ */
+typedef struct SfWarpHold {
+  /*
+   Warp direction in sixteenths of a turn (0..15); negative: none held.
+   */
+  int16_t direction;
+  /*
+   Warp distance `n = 2^(strength/4)` world units.
+   */
+  int16_t strength;
+  /*
+   Half extents across and along the warp, `2^(k/4)`.
+   */
+  int16_t extent[2];
+  /*
+   The warp's centre, in multiples of `n/4`.
+   */
+  int64_t apex[2];
+} SfWarpHold;
+
+/*
  What a stable fit carries from one frame to the next (see
  `sf_fit_light_held`): plain data, held by the caller, one per light.
  Initialise it with `sf_fit_state_init`; its contents are hints that the
@@ -578,9 +601,13 @@ typedef struct SfMap {
  */
 typedef struct SfFitState {
   /*
-   Per map slot, the extent step held (-1: none).
+   Per map slot, a stable spot map's extent step held (-1: none).
    */
   int16_t steps[48];
+  /*
+   Per map slot, a stable LiSPSM or TSM map's lattice steps held.
+   */
+  struct SfWarpHold warps[48];
 } SfFitState;
 
 #ifdef __cplusplus
@@ -681,7 +708,8 @@ int sf_fit_light(struct SfContext *ctx,
 /*
  `sf_fit_light` carrying `state` from the previous frame: with stable
  settings, a spot map or cube face whose body hovers at an extent step's
- boundary keeps its step instead of switching its texel grid every frame.
+ boundary keeps its step, and a LiSPSM or TSM map its warp's lattice
+ steps, instead of switching its texel grid every frame.
  `state` is updated with this frame's steps (cleared on an error).
  Without stable settings the maps are `sf_fit_light`'s, bit for bit.
  A NULL `state` is `SF_ERR_NULL_POINTER`.

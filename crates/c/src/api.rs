@@ -252,7 +252,8 @@ pub unsafe extern "C" fn sf_fit_light(
 
 /// `sf_fit_light` carrying `state` from the previous frame: with stable
 /// settings, a spot map or cube face whose body hovers at an extent step's
-/// boundary keeps its step instead of switching its texel grid every frame.
+/// boundary keeps its step, and a LiSPSM or TSM map its warp's lattice
+/// steps, instead of switching its texel grid every frame.
 /// `state` is updated with this frame's steps (cleared on an error).
 /// Without stable settings the maps are `sf_fit_light`'s, bit for bit.
 /// A NULL `state` is `SF_ERR_NULL_POINTER`.
@@ -278,7 +279,7 @@ pub unsafe extern "C" fn sf_fit_light_held(
             let state = state.as_mut().ok_or_else(|| Failure::null("state"))?;
             let fitted = fit_light(ctx, light, scene, Some(&mut *state), maps, capacity, count);
             if fitted.is_err() {
-                state.steps = FitState::default().to_steps();
+                convert::store_state(state, &FitState::default());
             }
             fitted
         })
@@ -294,7 +295,7 @@ pub unsafe extern "C" fn sf_fit_light_held(
 pub unsafe extern "C" fn sf_fit_state_init(state: *mut SfFitState) {
     // SAFETY: NULL or writable (caller).
     if let Some(s) = unsafe { state.as_mut() } {
-        s.steps = FitState::default().to_steps();
+        convert::store_state(s, &FitState::default());
     }
 }
 
@@ -320,9 +321,9 @@ unsafe fn fit_light(
     let scene = convert::aabb(scene).map_err(|e| Failure::geom(&e, ""))?;
     match state {
         Some(s) => {
-            let mut held = FitState::from_steps(s.steps);
+            let mut held = convert::load_state(s);
             let fitted = ctx.fit_light(&light, &scene, Some(&mut held));
-            s.steps = held.to_steps();
+            convert::store_state(s, &held);
             fitted?;
         }
         None => ctx.fit_light(&light, &scene, None)?,

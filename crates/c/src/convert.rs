@@ -5,8 +5,8 @@ use crate::error::Failure;
 use crate::types::*;
 use glam::DVec3;
 use shadowfocus_focus::{
-    ClipConvention, DepthRange, DepthTest, FocusSettings, Footprint, LightNear, LispsmSettings, MapOrientation, Method, PointMode,
-    PsmSettings, ShadowMap, SplitScheme, SplitSettings, TsmSettings, UvOrigin, WarpDirection,
+    ClipConvention, DepthRange, DepthTest, FitState, FocusSettings, Footprint, LightNear, LispsmSettings, MapOrientation, Method,
+    PointMode, PsmSettings, ShadowMap, SplitScheme, SplitSettings, TsmSettings, UvOrigin, WarpDirection, WarpHold,
 };
 use shadowfocus_geom::{Aabb, Camera, Frustum, Light};
 use std::ffi::c_int;
@@ -208,4 +208,16 @@ pub fn map(m: &ShadowMap) -> SfMap {
         depth_clamp: f.depth_clamp.into(),
         receiver_footprint: (f.footprint != Footprint::Body).into(),
     }
+}
+
+/// The library's state from a C `SfFitState`.
+pub(crate) fn load_state(s: &SfFitState) -> FitState {
+    let warps = s.warps.map(|w| WarpHold { direction: w.direction, strength: w.strength, extent: w.extent, apex: w.apex });
+    FitState::from_parts(s.steps, warps)
+}
+
+/// Writes the library's state into a C `SfFitState`.
+pub(crate) fn store_state(dst: &mut SfFitState, s: &FitState) {
+    dst.steps = s.to_steps();
+    dst.warps = s.to_warps().map(|w| SfWarpHold { direction: w.direction, strength: w.strength, extent: w.extent, apex: w.apex });
 }

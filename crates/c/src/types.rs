@@ -206,8 +206,25 @@ pub struct SfLight {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct SfFitState {
-    /// Per map slot, the extent step held (-1: none).
+    /// Per map slot, a stable spot map's extent step held (-1: none).
     pub steps: [i16; 48],
+    /// Per map slot, a stable LiSPSM or TSM map's lattice steps held.
+    pub warps: [SfWarpHold; 48],
+}
+
+/// A stable LiSPSM or TSM map's lattice steps (the library's `WarpHold`):
+/// integers, any values safe.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SfWarpHold {
+    /// Warp direction in sixteenths of a turn (0..15); negative: none held.
+    pub direction: i16,
+    /// Warp distance `n = 2^(strength/4)` world units.
+    pub strength: i16,
+    /// Half extents across and along the warp, `2^(k/4)`.
+    pub extent: [i16; 2],
+    /// The warp's centre, in multiples of `n/4`.
+    pub apex: [i64; 2],
 }
 
 /// An axis-aligned box; `min <= max` on every axis (zero thickness allowed).

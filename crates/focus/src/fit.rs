@@ -8,7 +8,7 @@ use crate::project::{f32_matrix, texel_size};
 use crate::receivers::fit_receivers;
 use crate::result::{CubeFace, FocusResult, MapFit, MapState, Notes, ShadowMap, Skipped};
 use crate::settings::{FocusSettings, Footprint, Method, PointMode};
-use crate::state::FitState;
+use crate::state::{FitState, Held};
 use crate::view::PreparedView;
 use glam::DVec3;
 use shadowfocus_geom::{Aabb, Body, Camera, Focuser, Frustum, Light, MAX_VERTICES, ROUNDING_ULPS};
@@ -57,13 +57,14 @@ pub fn fit(camera: &Camera, light: &Light, scene: &Aabb, settings: &FocusSetting
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn fit_prepared(view: &PreparedView, light: &Light, scene: &Aabb, out: &mut FocusResult) -> Result<(), FocusError> {
-    out.hold_steps(&FitState::default().steps);
+    out.hold(&FitState::default());
     fit_held(view, light, scene, out)
 }
 
 /// [`fit_prepared`] for stable maps that hold still over a camera path:
-/// `state` carries each stable spot map's extent step from the previous
-/// frame, and is updated with this frame's (see [`FitState`]). Other maps,
+/// `state` carries each stable spot map's extent step and each stable
+/// warped map's lattice steps from the previous frame, and is updated with
+/// this frame's (see [`FitState`]). Other maps,
 /// and fits without `stable`, are [`fit_prepared`]'s bit for bit. On an
 /// error `state` is cleared, so the next frame starts afresh.
 pub fn fit_prepared_with_state(
@@ -73,9 +74,9 @@ pub fn fit_prepared_with_state(
     state: &mut FitState,
     out: &mut FocusResult,
 ) -> Result<(), FocusError> {
-    out.hold_steps(&state.steps);
+    out.hold(state);
     let fitted = fit_held(view, light, scene, out);
-    state.steps = if fitted.is_ok() { out.chosen_steps() } else { FitState::default().steps };
+    *state = if fitted.is_ok() { out.chosen() } else { FitState::default() };
     fitted
 }
 
@@ -193,7 +194,7 @@ fn finish(map: &mut ShadowMap, sv: &SplitView) -> bool {
         map.set_empty();
         return true;
     }
-    let Some(f) = fit_body(sv, &map.light, &map.body, map.hold) else { return false };
+    let Some(f) = fit_body(sv, &map.light, &map.body, &map.hold) else { return false };
     store(map, sv, &f);
     true
 }
@@ -209,7 +210,7 @@ fn store(map: &mut ShadowMap, sv: &SplitView, f: &Fitted) {
         }
     }
     map.notes = notes;
-    map.step = f.stable_step;
+    map.chosen = f.held;
     let warped = matches!(sv.settings.method, Method::Lispsm | Method::Tsm);
     map.skipped = if f.warp_vanished && warped { Skipped::WARP } else { Skipped(0) };
 }
@@ -252,7 +253,7 @@ pub fn fit_map(camera: &Camera, light: &Light, body: &Body, settings: &FocusSett
         return Ok(MapFit::empty(settings.method, settings.clip));
     }
     let sv = SplitView { camera, basis, settings };
-    let f = fit_body(&sv, light, body, -1)
+    let f = fit_body(&sv, light, body, &Held::NONE)
         .ok_or(FocusError::NoSingleProjection { reason: "the light lies in the body or sees it over a half-space" })?;
     Ok(map_fit(&sv, light, &f))
 }
@@ -284,7 +285,7 @@ fn point_maps(out: &mut FocusResult, sv: &SplitView, view: &Frustum, l: DVec3, s
     let r = sv.settings.light_near.radius(light_reach(view, l, scene));
     // NOTE: a stable map needs a frame fixed in the world; a single map's
     // axis follows the body, the cube's faces do not.
-    if sv.settings.point == PointMode::Cube || sv.settings.stable_uniform() {
+    if sv.settings.point == PointMode::Cube || sv.settings.stable_applies() {
         return cube_faces(out, sv, view, l, scene, split, r);
     }
     let light = Light::Point { position: l };

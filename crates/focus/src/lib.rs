@@ -8,8 +8,8 @@
 //! shadow maps (PSM, including inverted lights and the virtual camera
 //! shift), light-space perspective shadow maps (LiSPSM) and trapezoidal
 //! shadow maps (TSM), optionally per parallel split of the view depth range
-//! (PSSM) and, with the uniform method, texel-snapped with quantised
-//! extents (`stable`).
+//! (PSSM) and texel-snapped with quantised extents (`stable`; LiSPSM and
+//! TSM with their warps on world-fixed lattices).
 //!
 //! # Conventions
 //!
@@ -124,7 +124,7 @@ pub use settings::{
     TsmSettings, WarpDirection,
 };
 pub use splits::{clip_depth, split_depths};
-pub use state::FitState;
+pub use state::{FitState, WarpHold};
 pub use view::PreparedView;
 pub use visible_depth::visible_depth_after_motion;
 

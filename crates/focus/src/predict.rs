@@ -68,6 +68,8 @@ pub(crate) struct Predicted {
     /// geometric mean is: whether the map is better than the reference on
     /// a typical sample, however the samples' magnitudes differ.
     pub ratio_product: f64,
+    /// How many samples the product runs over.
+    pub samples: usize,
 }
 
 impl Predicted {
@@ -81,7 +83,14 @@ impl Predicted {
     /// then does not hide its loss on a far ground the light grazes, which
     /// carries the view's worst aliasing under a low sun.
     pub fn no_worse_than(&self, other: &Predicted) -> bool {
-        self.max <= other.max && self.mean <= other.mean && self.ratio_product <= 1.0
+        self.no_worse_than_by(other, 1.0)
+    }
+
+    /// [`Predicted::no_worse_than`] with `factor` allowed: the maximum and
+    /// the mean at most `factor` times the reference's, the typical ratio
+    /// (the product's geometric mean) at most `factor`.
+    pub fn no_worse_than_by(&self, other: &Predicted, factor: f64) -> bool {
+        self.max <= factor * other.max && self.mean <= factor * other.mean && self.ratio_product <= factor.powi(self.samples as i32)
     }
 }
 
@@ -159,7 +168,7 @@ impl Samples {
         // refused. An overflow of the product (nine ratios beyond 1e34
         // each) refuses the map too, and an underflow to 0 accepts only a
         // map whose typical ratio is far below 1 anyway.
-        (self.len > 0).then(|| Predicted { max, mean: sum / self.len as f64, ratio_product: product })
+        (self.len > 0).then(|| Predicted { max, mean: sum / self.len as f64, ratio_product: product, samples: self.len })
     }
 }
 

@@ -3,6 +3,7 @@
 
 use crate::clip::ClipConvention;
 use crate::settings::{Footprint, Method};
+use crate::state::{FitState, Held};
 use crate::{MAX_MAPS, MAX_SPLITS};
 use glam::{DMat4, Mat4};
 use shadowfocus_geom::{Body, Focuser, Light};
@@ -230,10 +231,10 @@ pub struct ShadowMap {
     /// `body_valid` is false).
     pub(crate) body: Body,
     pub(crate) body_valid: bool,
-    /// A stable spot map's extent step held from the previous frame (−1:
-    /// none), and the step this fit chose (−1: not a stable spot map).
-    pub(crate) hold: i16,
-    pub(crate) step: i16,
+    /// The stable steps held from the previous frame, and the steps this
+    /// fit chose ([`Held::NONE`]: not a stable spot or warped map).
+    pub(crate) hold: Held,
+    pub(crate) chosen: Held,
     /// This map's share of the frame's notes and skipped work.
     pub(crate) notes: Notes,
     pub(crate) skipped: Skipped,
@@ -250,8 +251,8 @@ impl ShadowMap {
             light: Light::Directional { direction: glam::DVec3::NEG_Y },
             body: Body::new(),
             body_valid: false,
-            hold: -1,
-            step: -1,
+            hold: Held::NONE,
+            chosen: Held::NONE,
             notes: Notes(0),
             skipped: Skipped(0),
         }
@@ -390,7 +391,7 @@ flags! {
         /// uses the convention's other depth test (greater, or less with
         /// reversed-Z).
         INVERTED = 3, "inverted_light";
-        /// `stable` was requested where it does not apply (a warped method,
+        /// `stable` was requested where it does not apply (PSM,
         /// or a map whose stable construction could not hold its body) and
         /// was ignored.
         STABLE_IGNORED = 4, "stable_ignored";
@@ -420,9 +421,9 @@ pub struct FocusResult {
     /// The body engines' work space, shared by every map.
     focuser: Focuser,
     scratch: Body,
-    /// Per map slot, the stable extent step held from a [`crate::FitState`]
-    /// for this fit (−1 everywhere for a fit without one).
-    held: [i16; MAX_MAPS],
+    /// The stable steps held from a [`FitState`] for this fit (nothing
+    /// held for a fit without one).
+    held: FitState,
 }
 
 impl Default for FocusResult {
@@ -455,7 +456,7 @@ impl FocusResult {
             notes: Notes::default(),
             focuser: Focuser::new(),
             scratch: Body::new(),
-            held: [-1; MAX_MAPS],
+            held: FitState::default(),
         }
     }
 
@@ -507,19 +508,15 @@ impl FocusResult {
     }
 
     /// The next map slot, and the work space to compute its body with.
-    /// The steps to hold in the next fit (all −1: none).
-    pub(crate) fn hold_steps(&mut self, steps: &[i16; MAX_MAPS]) {
-        self.held = *steps;
+    /// The steps to hold in the next fit.
+    pub(crate) fn hold(&mut self, state: &FitState) {
+        self.held = *state;
     }
 
-    /// The extent step each map slot's fit chose (−1 beyond the maps and
-    /// for maps that are not stable spot maps).
-    pub(crate) fn chosen_steps(&self) -> [i16; MAX_MAPS] {
-        let mut out = [-1; MAX_MAPS];
-        for (o, m) in out.iter_mut().zip(self.maps()) {
-            *o = if m.is_active() { m.step } else { -1 };
-        }
-        out
+    /// The steps each map slot's fit chose (none beyond the maps and for
+    /// maps that are not stable spot or warped maps).
+    pub(crate) fn chosen(&self) -> FitState {
+        FitState::from_slots(self.maps().iter().map(|m| if m.is_active() { m.chosen } else { Held::NONE }))
     }
 
     pub(crate) fn push(&mut self) -> Option<(&mut ShadowMap, &mut Focuser)> {
@@ -528,7 +525,7 @@ impl FocusResult {
         }
         self.len += 1;
         let map = &mut self.maps[self.len - 1];
-        (map.hold, map.step) = (self.held[self.len - 1], -1);
+        (map.hold, map.chosen) = (self.held.slot(self.len - 1), Held::NONE);
         Some((map, &mut self.focuser))
     }
 

@@ -242,12 +242,15 @@ pub struct FocusSettings {
     pub splits: SplitSettings,
     /// Shadow-map resolution in texels (square maps), ≥ 4.
     pub resolution: u32,
-    /// Stable maps, with the uniform method (or `Auto`, which then takes
-    /// it): texel-snapped, their extent and depth range quantised, so that
-    /// from frame to frame a map moves by whole texels or not at all.
-    /// Directional lights: camera-rotation invariant; spot lights: in the
-    /// spot's own frame; point lights: six cube faces, each a stable spot.
-    /// Ignored with the other methods, and said so in the plan.
+    /// Stable maps: texel-snapped, their extent and depth range quantised,
+    /// so that from frame to frame a map moves by whole texels or not at
+    /// all. Directional lights: with the uniform method (or `Auto`, which
+    /// then takes it) camera-rotation invariant; with LiSPSM or TSM the
+    /// warp's direction, strength and centre on world-fixed lattices (held
+    /// from frame to frame with a [`crate::FitState`]). Spot lights: in the
+    /// spot's own frame, unwarped; point lights: six cube faces, each a
+    /// stable spot. Ignored with PSM, whose grid moves with the camera, and
+    /// said so in the plan.
     pub stable: bool,
     /// LiSPSM parameters.
     pub lispsm: LispsmSettings,
@@ -329,6 +332,18 @@ impl FocusSettings {
     /// with `Auto`, which then takes the stable uniform map.
     pub(crate) fn stable_uniform(&self) -> bool {
         self.stable && matches!(self.method, Method::Uniform | Method::Auto)
+    }
+
+    /// Whether the stable warped maps apply: `stable` with LiSPSM or TSM
+    /// (a directional light's; a spot light's stable map is its own).
+    pub(crate) fn stable_warp(&self) -> bool {
+        self.stable && matches!(self.method, Method::Lispsm | Method::Tsm)
+    }
+
+    /// Whether `stable` applies at all: every method but PSM, whose texel
+    /// grid lives in the camera's post-perspective space.
+    pub(crate) fn stable_applies(&self) -> bool {
+        self.stable_uniform() || self.stable_warp()
     }
 
     /// Checks every parameter against its documented range.

@@ -209,6 +209,91 @@ fn stable_maps_snap_to_texels_and_ignore_rotation() {
     assert!(out.notes.contains(Notes::STABLE_IGNORED));
 }
 
+/// Stable LiSPSM and TSM over a walk (the eye moving forward and turning
+/// a little each frame, a low sun from the side): every frame keeps its
+/// body and a real warp (no fall-back); with a `FitState` the texel grid
+/// changes at most twice over the 10 m walk (the warp's centre re-anchored
+/// as the eye walks away from it) and otherwise moves by whole texels, and
+/// the warp still gives the ground at the viewer's feet more texels than
+/// the stable uniform map does. Without a state the lattices' nearest steps
+/// change the grid more often.
+#[test]
+fn stable_warps_hold_one_grid_over_a_walk() {
+    let sun = Light::directional(DVec3::new(1.0, -0.6, 0.2)).unwrap();
+    let scene = Aabb::new(DVec3::new(-200.0, 0.0, -300.0), DVec3::new(200.0, 10.0, 100.0)).unwrap();
+    let res = 1024;
+    let cam = |k: usize| {
+        let yaw = 0.004 * k as f64;
+        let forward = DVec3::new(yaw.sin(), -0.15, -yaw.cos());
+        Camera { eye: DVec3::new(0.0, 1.7, 20.0) + forward * (0.25 * k as f64), forward, ..camera() }
+    };
+    // World points 10 cm apart on the ground a few metres ahead: their
+    // distance in texels.
+    let texels_at_feet = |m: &glam::DMat4| {
+        let p = |x: f64| {
+            let q = *m * glam::DVec4::new(x, 0.0, 15.0, 1.0);
+            glam::DVec2::new(q.x, q.y) / q.w * (res as f64 / 2.0)
+        };
+        (p(0.1) - p(0.0)).length()
+    };
+    for method in [Method::Lispsm, Method::Tsm] {
+        let s = FocusSettings { method, stable: true, resolution: res, ..FocusSettings::default() };
+        let uniform = FocusSettings { method: Method::Uniform, ..s };
+        let mut changes = [0; 2];
+        for (held, changes) in [true, false].into_iter().zip(&mut changes) {
+            let mut state = FitState::default();
+            let mut prev: Option<glam::DMat4> = None;
+            for k in 0..40 {
+                let view = PreparedView::new(&cam(k), &s).unwrap();
+                let mut out = FocusResult::new();
+                if held {
+                    fit_prepared_with_state(&view, &sun, &scene, &mut state, &mut out).unwrap();
+                } else {
+                    fit_prepared(&view, &sun, &scene, &mut out).unwrap();
+                }
+                let m = &out.maps()[0];
+                assert!(
+                    m.body().vertices().iter().all(|p| inside_map_f64(&m.fit, *p) && inside_map_f32(&m.fit, *p)),
+                    "{method:?} frame {k}: body outside"
+                );
+                assert!(
+                    !m.notes().contains(Notes::STABLE_IGNORED) && !m.notes().contains(Notes::WARP_LIMITED),
+                    "{method:?} frame {k}: {:?}",
+                    m.notes()
+                );
+                assert!(m.fit.warp_near.is_finite(), "{method:?} frame {k}: no warp");
+                let mm = m.fit.clip_from_world;
+                if let Some(p) = prev {
+                    // The same grid: the same `w` row, image rows that differ
+                    // by a multiple δ of it (δ·res/2 texels).
+                    let w = mm.row(3);
+                    let delta = |r: usize| {
+                        let d = mm.row(r) - p.row(r);
+                        let delta = d.truncate().dot(w.truncate()) / w.truncate().length_squared();
+                        ((d - w * delta).abs().max_element() <= 1e-9 * mm.row(r).abs().max_element()).then_some(delta)
+                    };
+                    match (mm.row(3) == p.row(3), delta(0), delta(1)) {
+                        (true, Some(dx), Some(dy)) => {
+                            for shift in [dx, dy].map(|d| d * res as f64 / 2.0) {
+                                assert!((shift - shift.round()).abs() < 1e-6, "{method:?} frame {k}: moved {shift} texels");
+                            }
+                        }
+                        _ => *changes += 1,
+                    }
+                }
+                prev = Some(mm);
+                if k % 13 == 0 {
+                    let u = fit1(&cam(k), &sun, &scene, &uniform);
+                    let (w, un) = (texels_at_feet(&mm), texels_at_feet(&u.maps()[0].fit.clip_from_world));
+                    assert!(w > 1.5 * un, "{method:?} frame {k}: {w} texels at the feet against the stable uniform map's {un}");
+                }
+            }
+        }
+        eprintln!("{method:?}: grid changes over 40 frames, held {}, stateless {}", changes[0], changes[1]);
+        assert!(changes[0] <= 2 && changes[1] > changes[0], "{method:?}: grid changes held/stateless {changes:?}");
+    }
+}
+
 /// The texel scale `1/S` of a map's image `x` row: its part across the
 /// light's axis (the `w` row's direction).
 fn image_scale(m: &glam::DMat4) -> f64 {

@@ -532,11 +532,11 @@ proptest! {
     /// `w` row, image rows that differ by a multiple of it) moves by whole
     /// texels.
     #[test]
-    fn stable_maps_move_by_whole_texels((cam, scene, light) in frame_strategy(), s in settings_strategy(), step in (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64), turn in -0.02..0.02f64, held in any::<bool>()) {
-        let s = FocusSettings { stable: true, method: Method::Uniform, ..s };
+    fn stable_maps_move_by_whole_texels((cam, scene, light) in frame_strategy(), s in settings_strategy(), method in prop_oneof![Just(Method::Uniform), Just(Method::Lispsm), Just(Method::Tsm)], step in (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64), turn in -0.02..0.02f64, held in any::<bool>()) {
+        let s = FocusSettings { stable: true, method, ..s };
         let res = s.resolution as f64;
         let scale = (scene.max - scene.min).length() * 1e-3;
-        let mut prev: Option<FocusResult> = None;
+        let mut prev: Option<(FocusResult, [WarpHold; MAX_MAPS])> = None;
         let mut state = FitState::default();
         for k in 0..8 {
             let t = k as f64;
@@ -544,18 +544,33 @@ proptest! {
             let c = Camera { eye: cam.eye + DVec3::from(step) * (scale * t), forward: rot * cam.forward, up: rot * cam.up, ..cam };
             let mut out = FocusResult::new();
             let view = PreparedView::new(&c, &s).map_err(|e| TestCaseError::fail(format!("{e}")))?;
-            let fitted = if held { fit_prepared_with_state(&view, &light, &scene, &mut state, &mut out) } else { fit_prepared(&view, &light, &scene, &mut out) };
-            fitted.map_err(|e| TestCaseError::fail(format!("{e}")))?;
+            // NOTE: a state that holds nothing gives the stateless fit; it
+            // tells which lattice steps a stable warp chose.
+            if !held {
+                state = FitState::default();
+            }
+            fit_prepared_with_state(&view, &light, &scene, &mut state, &mut out).map_err(|e| TestCaseError::fail(format!("{e}")))?;
             check_frame(&c, &light, &scene, &s, &out)?;
-            if let Some(p) = &prev {
+            let warps = state.to_warps();
+            if let Some((p, prev_warps)) = &prev {
                 prop_assert_eq!(p.maps().len(), out.maps().len());
-                for (a, b) in p.maps().iter().zip(out.maps()) {
+                for (i, (a, b)) in p.maps().iter().zip(out.maps()).enumerate() {
                     if !(a.is_active() && b.is_active()) || a.notes().contains(Notes::STABLE_IGNORED) || b.notes().contains(Notes::STABLE_IGNORED) {
+                        continue;
+                    }
+                    // A stable warp keeps its grid exactly while its lattice
+                    // steps hold: then its rows must differ by whole texels.
+                    // (Its rows alone cannot tell: with the warp's centre far
+                    // out, a new extent can look like a multiple of `w`.)
+                    let (wa, wb) = (prev_warps[i], warps[i]);
+                    let warp_kept = wa.is_held() && wa == wb;
+                    if (wa.is_held() || wb.is_held()) && !warp_kept {
                         continue;
                     }
                     let (ma, mb) = (&a.fit.clip_from_world, &b.fit.clip_from_world);
                     let w = ma.row(3);
                     if mb.row(3) != w {
+                        prop_assert!(!warp_kept, "a kept warp changed its w row");
                         continue;
                     }
                     for r in [0, 1] {
@@ -570,6 +585,7 @@ proptest! {
                         let size = ra.truncate().length().max(rb.truncate().length());
                         let delta = if wx == DVec3::ZERO { d.w / w.w } else { dx.dot(wx) / wx.length_squared() };
                         if (dx - wx * delta).length() > 1e-9 * size {
+                            prop_assert!(!warp_kept, "a kept warp's row {} is not a translation", r);
                             continue; // the extent or the frame changed: a new grid
                         }
                         let texels = delta * res / 2.0;
@@ -577,7 +593,7 @@ proptest! {
                     }
                 }
             }
-            prev = Some(out);
+            prev = Some((out, warps));
         }
     }
 

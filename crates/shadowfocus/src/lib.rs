@@ -8,7 +8,7 @@
 //! - [`focus`] fits shadow-map matrices to `H`: the focused uniform map,
 //!   perspective shadow maps (PSM, inverted lights, the virtual shift),
 //!   light-space perspective shadow maps (LiSPSM), trapezoidal maps (TSM),
-//!   parallel splits, texel-snapped stable maps for every light, cube faces for point
+//!   parallel splits, texel-snapped stable maps for every light (LiSPSM and TSM too), cube faces for point
 //!   lights, in every graphics API's clip convention
 //!   ([`focus::ClipConvention`]), and culls casters against each map.
 //!

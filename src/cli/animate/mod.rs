@@ -97,6 +97,7 @@ pub fn animate(o: &AnimateOptions) -> Result<Value, String> {
     // NOTE: carried from frame to frame as an engine would (stable maps'
     // hysteresis); without --stable it holds nothing.
     let mut state = FitState::default();
+    let mut state_changes = 0usize;
     let mut p95s = Vec::new();
     let mut rows = vec!["frame,aliasing_p95,aliasing_max,mismatch_adequate,probes_seen,maps_hold_h".to_string()];
     let mut strip = Vec::new();
@@ -105,6 +106,7 @@ pub fn animate(o: &AnimateOptions) -> Result<Value, String> {
         let frame = Frame { camera: path_camera(&scene, o.path, k, o.frames), light };
         let before = state;
         let (out, _) = render_frame(&mut renderer, &scene, &frame, &o.fit, o.size, true, Some(&mut state))?;
+        state_changes += usize::from(k > 0 && state != before);
         let screen = screen::Screen::new(&out)?;
         let truth = out.truth.as_ref().ok_or("the render has no ground truth")?;
         let probes = flicker.get_or_insert_with(|| flicker::Flicker::new(&out, truth, PROBE_STRIDE));
@@ -138,6 +140,7 @@ pub fn animate(o: &AnimateOptions) -> Result<Value, String> {
         "edge_crawl_truth_px": crawl.truth_px(),
         "aliasing_p95_mean": finite.iter().sum::<f64>() / finite.len().max(1) as f64,
         "misses": misses,
+        "state_changes": state_changes,
     });
     let refs: Vec<(&Image, &str)> = strip.iter().map(|(i, l)| (i, l.as_str())).collect();
     contact_sheet(&refs, 4).save_png(&o.out.join("strip.png")).map_err(|e| e.to_string())?;

@@ -168,15 +168,19 @@ fn sf_fit_light_from_a_prepared_view_gives_the_maps_of_sf_fit() {
 #[test]
 fn sf_fit_light_held_carries_the_state_of_the_library() {
     let ctx = Ctx::new();
-    for stable in [0, 1] {
-        let s = SfSettings { stable, ..settings(SfMethod::SF_METHOD_UNIFORM, 2) };
-        let rs = FocusSettings { stable: stable != 0, ..rust_settings(SfMethod::SF_METHOD_UNIFORM, 2) };
+    let methods = [SfMethod::SF_METHOD_UNIFORM, SfMethod::SF_METHOD_LISPSM, SfMethod::SF_METHOD_TSM];
+    for (stable, method) in [0, 1].into_iter().flat_map(|s| methods.map(|m| (s, m))) {
+        let s = SfSettings { stable, ..settings(method, 2) };
+        let rs = FocusSettings { stable: stable != 0, ..rust_settings(method, 2) };
+        let mut held_warps = 0;
         for light in lights() {
-            let mut c_state = SfFitState { steps: [7; 48] };
+            let junk = SfWarpHold { direction: 3, strength: 9, extent: [1, 2], apex: [5, 6] };
+            let mut c_state = SfFitState { steps: [7; 48], warps: [junk; 48] };
             // SAFETY: a valid pointer.
             unsafe { sf_fit_state_init(&mut c_state) };
             let mut state = FitState::default();
             assert_eq!(c_state.steps, state.to_steps());
+            assert!(c_state.warps.iter().all(|w| w.direction < 0));
             let mut got = vec![canary_map(); SF_MAX_MAPS as usize];
             for k in 0..12 {
                 let cam = camera(k);
@@ -195,8 +199,16 @@ fn sf_fit_light_held_carries_the_state_of_the_library() {
                     assert_same(&got[i], r, &format!("frame {k}, map {i}"));
                 }
                 assert_eq!(c_state.steps, state.to_steps(), "frame {k}");
+                let warps = state.to_warps();
+                for (c, w) in c_state.warps.iter().zip(&warps) {
+                    assert_eq!((c.direction, c.strength, c.extent, c.apex), (w.direction, w.strength, w.extent, w.apex), "frame {k}");
+                }
+                held_warps += warps.iter().filter(|w| w.is_held()).count();
             }
         }
+        // The warps' state really crosses: stable LiSPSM and TSM hold some.
+        let warp = method != SfMethod::SF_METHOD_UNIFORM;
+        assert_eq!(held_warps > 0, stable == 1 && warp, "{method:?}, stable {stable}: {held_warps} warps held");
     }
 }
 

@@ -18,6 +18,7 @@
 use super::{fit_body, light_point, Fitted, SplitView};
 use crate::predict::Samples;
 use crate::settings::{FocusSettings, Method};
+use crate::state::Held;
 use shadowfocus_geom::{Body, Light};
 
 /// The candidates, in the order ties are broken.
@@ -31,7 +32,7 @@ pub(super) fn auto(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted>
     for method in CANDIDATES {
         let settings = FocusSettings { method, ..*sv.settings };
         let view = SplitView { camera: sv.camera, basis: sv.basis, settings: &settings };
-        let Some(f) = fit_body(&view, light, body, -1) else { continue };
+        let Some(f) = fit_body(&view, light, body, &Held::NONE) else { continue };
         let predicted = if method == Method::Uniform { samples.judge(&f.m, lp) } else { samples.predict(&f.m) };
         let Some(p) = predicted else {
             // Nothing to judge by: the uniform map, or the first that fits.

@@ -6,11 +6,12 @@
 use super::warp::{warped, Frame};
 use super::{image, image_scale, Fitted, SplitView};
 use crate::settings::WarpDirection;
+use crate::state::WarpHold;
 use glam::{DMat4, DVec3};
 use shadowfocus_geom::{Body, Camera, Dimension, Light};
 
 /// The LiSPSM map of `body`.
-pub(super) fn lispsm(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted> {
+pub(super) fn lispsm(sv: &SplitView, light: &Light, body: &Body, hold: &WarpHold) -> Option<Fitted> {
     let s = sv.settings;
     let cam = sv.camera;
     let f = sv.basis.forward;
@@ -19,7 +20,7 @@ pub(super) fn lispsm(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitte
         WarpDirection::ViewProjected => f,
     };
     let verts = body.vertices();
-    warped(sv, light, body, v, |fr: &Frame| {
+    warped(sv, light, body, v, hold, |fr: &Frame| {
         let Frame { m, lp, p_ref, eta: (eta0, eta1), .. } = *fr;
         let zn = cam.near;
         let kappa = image_scale(&m, p_ref);

@@ -8,14 +8,16 @@
 
 //!
 //! One file per construction, named after it: `uniform`, `stable`, `psm`
-//! [PSM02], `lispsm` [LISPSM04, SCH05], `tsm` [TSM04]; `warp` holds what
-//! LiSPSM and TSM share (the light-space frame along the view direction and
-//! the guarded choice of the warp's strength); `auto` chooses among them.
+//! [PSM02], `lispsm` [LISPSM04, SCH05], `tsm` [TSM04], `stable_warp` (LiSPSM
+//! and TSM on world-fixed lattices); `warp` holds what LiSPSM and TSM share
+//! (the light-space frame along the view direction and the guarded choice of
+//! the warp's strength); `auto` chooses among them.
 
 mod auto;
 mod lispsm;
 mod psm;
 mod stable;
+mod stable_warp;
 mod tsm;
 mod uniform;
 mod warp;
@@ -25,6 +27,7 @@ use crate::hull2::min_area_direction;
 use crate::project::{central_projection, from_rows, h, image_points, Central, Cropped, DepthKind};
 use crate::settings::{MapOrientation, Method};
 pub(crate) use crate::split_view::SplitView;
+use crate::state::Held;
 use glam::{DMat4, DVec2, DVec3, DVec4};
 use shadowfocus_geom::{unit_direction, Body, Light, MAX_VERTICES};
 
@@ -43,9 +46,9 @@ pub(crate) struct Fitted {
     pub warp_limited: bool,
     pub psm_fell_back: bool,
     pub stable_ignored: bool,
-    /// A stable spot map's extent step (see `stable::stable_spot`); −1 for
-    /// every other map.
-    pub stable_step: i16,
+    /// The steps a stable spot map (see `stable::stable_spot`) or a stable
+    /// warped map (see `stable_warp`) chose, to hold in the next frame.
+    pub held: Held,
     /// The f32 matrix keeps the body inside (see `project::crop`).
     pub f32_exact: bool,
     /// PSM's light is inverted: the depth row was built to grow toward the
@@ -65,7 +68,7 @@ impl Fitted {
             warp_limited: false,
             psm_fell_back: false,
             stable_ignored: false,
-            stable_step: -1,
+            held: Held::NONE,
             inverted: false,
         }
     }
@@ -95,16 +98,21 @@ fn spot_axis(light: &Light) -> Option<DVec3> {
 }
 
 /// Fits `body` (non-empty) for `light` with the configured method; `hold`
-/// is the extent step a stable spot map had in the previous frame (−1:
-/// none, see [`crate::FitState`]).
-pub(crate) fn fit_body(sv: &SplitView, light: &Light, body: &Body, hold: i16) -> Option<Fitted> {
+/// is what the map's stable construction chose in the previous frame
+/// ([`Held::NONE`]: nothing, see [`crate::FitState`]).
+pub(crate) fn fit_body(sv: &SplitView, light: &Light, body: &Body, hold: &Held) -> Option<Fitted> {
     let s = sv.settings;
     let directional = matches!(light, Light::Directional { .. });
     let spot = matches!(light, Light::Spot { .. });
     let stable = s.stable_uniform();
     let mut out = match s.method {
         _ if stable && directional => stable::stable(sv, light, body),
-        _ if stable && spot => stable::stable_spot(sv, light, body, hold),
+        // NOTE: a stable spot map is the spot's own perspective, fixed in
+        // the world; a warp in its image would follow the camera.
+        _ if s.stable_applies() && spot => stable::stable_spot(sv, light, body, hold.step).map(|f| match s.stable_warp() {
+            true => Fitted { method: s.method, warp_vanished: true, ..f },
+            false => f,
+        }),
         Method::Uniform => uniform::uniform(sv, light, body),
         Method::Psm => match psm::psm(sv, light, body) {
             Some(f) => Some(f),
@@ -113,13 +121,13 @@ pub(crate) fn fit_body(sv: &SplitView, light: &Light, body: &Body, hold: i16) ->
                 f
             }),
         },
-        Method::Lispsm => lispsm::lispsm(sv, light, body),
-        Method::Tsm => tsm::tsm(sv, light, body),
+        Method::Lispsm => lispsm::lispsm(sv, light, body, &hold.warp),
+        Method::Tsm => tsm::tsm(sv, light, body, &hold.warp),
         Method::Auto => auto::auto(sv, light, body),
     }?;
-    // The stable uniform maps are the only stable ones (a point light's are
-    // its cube faces, which are spots).
-    out.stable_ignored |= s.stable && !(stable && (directional || spot));
+    // Every method but PSM has stable maps (a point light's are its cube
+    // faces, which are spots).
+    out.stable_ignored |= s.stable && !s.stable_applies();
     Some(out)
 }
 

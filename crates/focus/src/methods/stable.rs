@@ -91,13 +91,7 @@ pub(super) fn stable(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitte
     let sigma = (8.0 * u * (mag + (zc - d.dot(o)).abs() + zh) / zh).max(4.0 * u);
     let f32_exact = sigma <= 1.0 / 16.0 && m <= 0.25 * r;
     zh *= 1.0 + 8.0 * sigma.min(1.0 / 16.0);
-    // The depth range quantised: half-depth `2^k ≥ 2 zh`, centre on a grid
-    // of `2^(k−1)`. The snap moves the centre by at most `2^(k−2)`, so
-    // `zc' ± 2^k ⊇ zc ± (2^k − 2^(k−2)) ⊇ zc ± zh`: a body moving within the
-    // same quantum keeps the same depth row.
-    let zh_q = pow2_ceil(2.0 * zh);
-    let step = 0.5 * zh_q;
-    let (zc, zh) = ((zc / step).round() * step, zh_q);
+    let (zc, zh) = quantise_depth(zc, zh);
     if !(zh.is_finite() && half.is_finite()) {
         return None;
     }
@@ -126,6 +120,16 @@ pub(super) fn stable(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitte
         });
     }
     Some(Fitted::plain(Cropped { m: mm, f32_exact }, Method::Uniform))
+}
+
+/// The depth range `zc ± zh` quantised: half-depth `2^k ≥ 2 zh`, centre on
+/// a grid of `2^(k−1)`. The snap moves the centre by at most `2^(k−2)`, so
+/// `zc' ± 2^k ⊇ zc ± (2^k − 2^(k−2)) ⊇ zc ± zh`: a body moving within the
+/// same quantum keeps the same depth row.
+pub(super) fn quantise_depth(zc: f64, zh: f64) -> (f64, f64) {
+    let zh_q = pow2_ceil(2.0 * zh);
+    let step = 0.5 * zh_q;
+    ((zc / step).round() * step, zh_q)
 }
 
 /// The depth row for light direction `d` whose depths along `d` lie in
@@ -237,13 +241,13 @@ pub(super) fn stable_spot(sv: &SplitView, light: &Light, body: &Body, hold: i16)
     let o = sv.settings.f32_origin;
     let f32_exact = inside_by(&(canonical * glam::DMat4::from_translation(o)), verts, 0.0, o, 16.0 * UNIT_ROUNDOFF_F32);
     let mut fitted = Fitted::plain(Cropped { m: mm, f32_exact }, Method::Uniform);
-    fitted.stable_step = k as i16;
+    fitted.held.step = k as i16;
     Some(fitted)
 }
 
 /// The row of the convention for the `[0, 1]` depth row `d` (`0 ≤ d ≤ w`):
 /// `d`, `w − d`, `2d − w` or `w − 2d` (see [`crate::clip`]).
-fn convention_row(clip: ClipConvention, d: DVec4, w: DVec4) -> DVec4 {
+pub(super) fn convention_row(clip: ClipConvention, d: DVec4, w: DVec4) -> DVec4 {
     match (clip.depth, clip.reversed_z) {
         (DepthRange::ZeroToOne, false) => d,
         (DepthRange::ZeroToOne, true) => w - d,
@@ -254,7 +258,7 @@ fn convention_row(clip: ClipConvention, d: DVec4, w: DVec4) -> DVec4 {
 
 /// Every vertex inside the clip volume of `m` (applied to `p − origin`) by
 /// more than the rounding bound `eps·Σ|m_rj||p_j|` of its clip coordinates.
-fn inside_by(m: &glam::DMat4, verts: &[DVec3], z_min: f64, origin: DVec3, eps: f64) -> bool {
+pub(super) fn inside_by(m: &glam::DMat4, verts: &[DVec3], z_min: f64, origin: DVec3, eps: f64) -> bool {
     verts.iter().all(|p| {
         let hp = h(*p - origin);
         let q = *m * hp;

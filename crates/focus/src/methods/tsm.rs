@@ -3,14 +3,15 @@
 
 use super::warp::{warped, Frame};
 use super::{image, Fitted, SplitView};
+use crate::state::WarpHold;
 use shadowfocus_geom::{Body, Light};
 
 /// The TSM map of `body`.
-pub(super) fn tsm(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted> {
+pub(super) fn tsm(sv: &SplitView, light: &Light, body: &Body, hold: &WarpHold) -> Option<Fitted> {
     let s = sv.settings;
     let cam = sv.camera;
     let f = sv.basis.forward;
-    warped(sv, light, body, f, |fr: &Frame| {
+    warped(sv, light, body, f, hold, |fr: &Frame| {
         let Frame { m, p_near, xi: (xi0, xi1), eta: (eta0, eta1), .. } = *fr;
         let zn = cam.near;
         // Top line at η0, base at η1 (λ apart); the focus point at depth

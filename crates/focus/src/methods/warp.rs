@@ -2,6 +2,7 @@
 //! so that image `y` runs along the view direction, the body's extent in
 //! it, and the guarded choice of the warp's strength ([`choose_warp`]).
 
+use super::stable_warp::stable_warped;
 use super::uniform::uniform_from;
 use super::{image, light_point, light_space, rotate_image, Fitted, SplitView};
 #[cfg(doc)]
@@ -9,6 +10,7 @@ use crate::predict::Predicted;
 use crate::predict::Samples;
 use crate::project::{apply_warp, crop, crop_estimate, h, Warp};
 use crate::settings::MapOrientation;
+use crate::state::WarpHold;
 use glam::{DMat4, DVec2, DVec3, DVec4};
 use shadowfocus_geom::{Body, Light};
 
@@ -31,9 +33,20 @@ pub(super) struct Frame {
 /// LiSPSM or TSM along `v`: `warp_of` gives the warp's strength `ε` and
 /// its centre line `ξ_c` in the frame, [`choose_warp`] the map. Where `v`
 /// has no image direction (all but parallel to the light) the map is the
-/// uniform one, marked as a vanished warp.
-pub(super) fn warped(sv: &SplitView, light: &Light, body: &Body, v: DVec3, warp_of: impl FnOnce(&Frame) -> (f64, f64)) -> Option<Fitted> {
+/// uniform one, marked as a vanished warp. Stable maps of a directional
+/// light are [`stable_warped`]'s, holding the steps of `hold`.
+pub(super) fn warped(
+    sv: &SplitView,
+    light: &Light,
+    body: &Body,
+    v: DVec3,
+    hold: &WarpHold,
+    warp_of: impl FnOnce(&Frame) -> (f64, f64),
+) -> Option<Fitted> {
     let s = sv.settings;
+    if s.stable_warp() && matches!(light, Light::Directional { .. }) {
+        return stable_warped(sv, light, body, v, hold, warp_of);
+    }
     let cam = sv.camera;
     let verts = body.vertices();
     let c = light_space(sv, light, verts, v)?;
