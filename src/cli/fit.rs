@@ -20,8 +20,10 @@ pub struct FitOptions {
     /// Number of parallel splits (1 = a single map).
     #[arg(long, default_value_t = 1)]
     pub splits: usize,
-    /// uniform | log | practical (default practical; log with --sdsm, whose tight range the
-    /// logarithmic splits fit [SDSM10])
+    /// uniform | log | practical | geometric:FIRST (the first split ends at view depth FIRST, the
+    /// rest geometric, as engines ship cascades) | optimal (per light, splits of even predicted
+    /// aliasing). Default practical; log with --sdsm, whose tight range the logarithmic splits
+    /// fit [SDSM10]
     #[arg(long)]
     pub scheme: Option<String>,
     /// Weight of the logarithmic scheme in the practical one.
@@ -111,7 +113,11 @@ impl FitOptions {
             "uniform" => SplitScheme::Uniform,
             "log" => SplitScheme::Log,
             "practical" => SplitScheme::Practical { lambda: self.lambda },
-            s => return Err(format!("unknown split scheme {s:?}: expected uniform, log or practical")),
+            "optimal" => SplitScheme::Optimal,
+            s => match s.strip_prefix("geometric:").map(str::parse::<f64>) {
+                Some(Ok(first)) => SplitScheme::Geometric { first },
+                _ => return Err(format!("unknown split scheme {s:?}: expected uniform, log, practical, geometric:FIRST or optimal")),
+            },
         };
         let s = FocusSettings {
             method: self.method,

@@ -182,6 +182,16 @@ typedef enum SfSplitScheme {
    `lambda` times the logarithmic plus `1 - lambda` times the uniform planes.
    */
   SF_SPLIT_PRACTICAL = 2,
+  /*
+   The first split ends at the view depth `first_split`, the others
+   follow geometrically to far (engine-style cascades).
+   */
+  SF_SPLIT_GEOMETRIC = 3,
+  /*
+   Per light, planes that even out the splits' predicted aliasing
+   (several fits per frame; refused with `stable`).
+   */
+  SF_SPLIT_OPTIMAL = 4,
 } SfSplitScheme;
 
 /*
@@ -253,6 +263,12 @@ typedef struct SfSettings {
    Weight of the logarithmic planes in the practical scheme, in [0, 1] (default 0.5).
    */
   double lambda;
+  /*
+   The far end of the first split for the geometric scheme, a view
+   depth in world units; must be set (> 0) with that scheme (default 0,
+   not set).
+   */
+  double first_split;
   /*
    Non-negative shift of the inner split planes (default 0).
    */

@@ -114,7 +114,13 @@ fn method(m: c_int) -> Result<Method, Failure> {
 }
 
 fn scheme(s: &SfSettings) -> Result<SplitScheme, Failure> {
-    let schemes = [SplitScheme::Uniform, SplitScheme::Log, SplitScheme::Practical { lambda: s.lambda }];
+    let schemes = [
+        SplitScheme::Uniform,
+        SplitScheme::Log,
+        SplitScheme::Practical { lambda: s.lambda },
+        SplitScheme::Geometric { first: s.first_split },
+        SplitScheme::Optimal,
+    ];
     pick(s.split_scheme, &schemes, "settings.split_scheme", "SfSplitScheme")
 }
 
@@ -131,10 +137,19 @@ fn clip(s: &SfSettings) -> ClipConvention {
 /// The C settings that give `FocusSettings::default()`.
 pub fn default_settings() -> SfSettings {
     let d = FocusSettings::default();
-    let (lambda, split_scheme) = match d.splits.scheme {
-        SplitScheme::Uniform => (0.5, SfSplitScheme::SF_SPLIT_UNIFORM),
-        SplitScheme::Log => (0.5, SfSplitScheme::SF_SPLIT_LOG),
-        SplitScheme::Practical { lambda } => (lambda, SfSplitScheme::SF_SPLIT_PRACTICAL),
+    let (mut lambda, mut first_split) = (0.5, 0.0);
+    let split_scheme = match d.splits.scheme {
+        SplitScheme::Uniform => SfSplitScheme::SF_SPLIT_UNIFORM,
+        SplitScheme::Log => SfSplitScheme::SF_SPLIT_LOG,
+        SplitScheme::Practical { lambda: l } => {
+            lambda = l;
+            SfSplitScheme::SF_SPLIT_PRACTICAL
+        }
+        SplitScheme::Geometric { first } => {
+            first_split = first;
+            SfSplitScheme::SF_SPLIT_GEOMETRIC
+        }
+        SplitScheme::Optimal => SfSplitScheme::SF_SPLIT_OPTIMAL,
     };
     let (light_near_fraction, light_near_fixed) = match d.light_near {
         LightNear::Auto { fraction } => (fraction, 0.0),
@@ -145,6 +160,7 @@ pub fn default_settings() -> SfSettings {
         splits: d.splits.count as u32,
         split_scheme: split_scheme as c_int,
         lambda,
+        first_split,
         delta_bias: d.splits.delta_bias,
         resolution: d.resolution,
         stable: d.stable.into(),

@@ -73,6 +73,12 @@ pub enum SfSplitScheme {
     SF_SPLIT_LOG = 1,
     /// `lambda` times the logarithmic plus `1 - lambda` times the uniform planes.
     SF_SPLIT_PRACTICAL = 2,
+    /// The first split ends at the view depth `first_split`, the others
+    /// follow geometrically to far (engine-style cascades).
+    SF_SPLIT_GEOMETRIC = 3,
+    /// Per light, planes that even out the splits' predicted aliasing
+    /// (several fits per frame; refused with `stable`).
+    SF_SPLIT_OPTIMAL = 4,
 }
 
 /// Which vector orients the LiSPSM warp.
@@ -250,6 +256,10 @@ pub struct SfSettings {
     pub split_scheme: SfSplitSchemeInt,
     /// Weight of the logarithmic planes in the practical scheme, in [0, 1] (default 0.5).
     pub lambda: f64,
+    /// The far end of the first split for the geometric scheme, a view
+    /// depth in world units; must be set (> 0) with that scheme (default 0,
+    /// not set).
+    pub first_split: f64,
     /// Non-negative shift of the inner split planes (default 0).
     pub delta_bias: f64,
     /// Map resolution in texels (square maps), >= 4 (default 2048).

@@ -4,12 +4,14 @@ use crate::cone::{cone_axis, turn_into_cone, CONE_MARGIN};
 use crate::error::FocusError;
 use crate::frame::{perpendicular_hint, tangent_frame};
 use crate::methods::{fit_body, light_point, Fitted, SplitView};
+use crate::placement::{self, Planes};
 use crate::project::{f32_matrix, texel_size};
 use crate::receivers::fit_receivers;
 use crate::result::{CubeFace, FocusResult, MapFit, MapState, Notes, ShadowMap, Skipped};
-use crate::settings::{FocusSettings, Footprint, Method, PointMode};
+use crate::settings::{FocusSettings, Footprint, Method, PointMode, SplitScheme};
 use crate::state::{FitState, Held};
 use crate::view::PreparedView;
+use crate::view_aliasing::receiver_aliasing;
 use glam::DVec3;
 use shadowfocus_geom::{Aabb, Body, Camera, Focuser, Frustum, Light, MAX_VERTICES, ROUNDING_ULPS};
 
@@ -88,20 +90,43 @@ fn fit_held(view: &PreparedView, light: &Light, scene: &Aabb, out: &mut FocusRes
     }
     let scene = Aabb::new(scene.min, scene.max)?;
     light.validate()?;
-    out.set_splits(&view.depths, view.splits, view.settings.clip);
-    for i in 0..view.splits {
-        let range = [view.depths[i], view.depths[i + 1]];
-        let Some(frustum) = &view.frusta[i] else {
-            empty_split(out, &view.settings, light, i, range)?;
-            continue;
-        };
-        let sub = Camera { near: range[0], far: range[1], ..view.camera };
-        fit_split(out, &SplitView { camera: &sub, basis: view.basis, settings: &view.settings }, frustum, light, &scene, i)?;
+    if view.settings.splits.scheme == SplitScheme::Optimal && view.splits > 1 {
+        let mut planes = view.depths;
+        placement::place(&mut planes, view.splits, |planes| {
+            out.clear();
+            fit_splits(out, view, planes, light, &scene)?;
+            Ok(receiver_aliasing(out.maps(), out.split_depths(), &view.camera, &view.basis, (scene.min, scene.max)))
+        })?;
+    } else {
+        fit_splits(out, view, &view.depths, light, &scene)?;
     }
     if view.settings.depth_clamp || view.settings.footprint != Footprint::Body {
         fit_receivers(out, view, &scene)?;
     }
     plan(out, &view.settings, light, &scene);
+    Ok(())
+}
+
+/// Every split's maps for the planes `depths`: the view's own frusta where
+/// the planes are the view's, frusta cut anew where they are not.
+fn fit_splits(out: &mut FocusResult, view: &PreparedView, depths: &Planes, light: &Light, scene: &Aabb) -> Result<(), FocusError> {
+    out.set_splits(depths, view.splits, view.settings.clip);
+    for i in 0..view.splits {
+        let range = [depths[i], depths[i + 1]];
+        let cut;
+        let frustum = if range == view.split_range(i) {
+            view.frustum(i)
+        } else {
+            cut = view.split_frustum(range)?;
+            cut.as_ref()
+        };
+        let Some(frustum) = frustum else {
+            empty_split(out, &view.settings, light, i, range)?;
+            continue;
+        };
+        let sub = Camera { near: range[0], far: range[1], ..view.camera };
+        fit_split(out, &SplitView { camera: &sub, basis: view.basis, settings: &view.settings }, frustum, light, scene, i)?;
+    }
     Ok(())
 }
 

@@ -99,6 +99,7 @@ mod frame;
 mod hull2;
 mod light_frame;
 mod methods;
+mod placement;
 mod predict;
 mod project;
 mod receivers;
@@ -110,6 +111,7 @@ mod split_view;
 mod splits;
 mod state;
 mod view;
+mod view_aliasing;
 mod visible_depth;
 
 pub use camera::{camera_from_corners, RecoveredCamera};
@@ -126,6 +128,7 @@ pub use settings::{
 pub use splits::{clip_depth, split_depths};
 pub use state::{FitState, WarpHold};
 pub use view::PreparedView;
+pub use view_aliasing::{predict_aliasing, ViewAliasing};
 pub use visible_depth::visible_depth_after_motion;
 
 /// Most parallel splits.

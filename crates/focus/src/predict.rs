@@ -183,17 +183,19 @@ fn bounds(pts: &[DVec3]) -> (DVec3, DVec3) {
 
 /// Where a ray leaves a box.
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct Exit {
+pub(crate) struct Exit {
+    /// The view depth where the ray enters the box (or `near`).
+    pub entry: f64,
     /// The view depth of the exit point.
-    depth: f64,
+    pub depth: f64,
     /// The axis of the box face it leaves through; `None` where the ray
     /// reaches `far` first.
-    axis: Option<usize>,
+    pub axis: Option<usize>,
 }
 
 /// Where `eye + z·d`, `z ∈ [near, far]`, leaves the box `[lo, hi]` (slab
 /// clipping); `None` where it never is inside.
-fn clip_ray(eye: DVec3, d: DVec3, near: f64, far: f64, lo: DVec3, hi: DVec3) -> Option<Exit> {
+pub(crate) fn clip_ray(eye: DVec3, d: DVec3, near: f64, far: f64, lo: DVec3, hi: DVec3) -> Option<Exit> {
     let (mut z0, mut z1) = (near, far);
     let mut axis = None;
     for k in 0..3 {
@@ -211,7 +213,7 @@ fn clip_ray(eye: DVec3, d: DVec3, near: f64, far: f64, lo: DVec3, hi: DVec3) -> 
             axis = Some(k);
         }
     }
-    (z0 <= z1 && z0 > 0.0).then_some(Exit { depth: z1, axis })
+    (z0 <= z1 && z0 > 0.0).then_some(Exit { entry: z0, depth: z1, axis })
 }
 
 #[cfg(test)]
@@ -225,9 +227,9 @@ mod tests {
         let (lo, hi) = (DVec3::new(-10.0, -2.0, -10.0), DVec3::new(10.0, -1.0, 10.0));
         // The box y ∈ [−2, −1] is crossed between z = 2 and z = 4, left
         // through its face y = −2.
-        assert_eq!(clip_ray(eye, d, 0.1, 100.0, lo, hi), Some(Exit { depth: 4.0, axis: Some(1) }));
+        assert_eq!(clip_ray(eye, d, 0.1, 100.0, lo, hi), Some(Exit { entry: 2.0, depth: 4.0, axis: Some(1) }));
         // Far inside the box: the ray ends there, on no face.
-        assert_eq!(clip_ray(eye, d, 0.1, 3.0, lo, hi), Some(Exit { depth: 3.0, axis: None }));
+        assert_eq!(clip_ray(eye, d, 0.1, 3.0, lo, hi), Some(Exit { entry: 2.0, depth: 3.0, axis: None }));
         // Beyond far: nothing.
         assert_eq!(clip_ray(eye, d, 0.1, 1.5, lo, hi), None);
         // Parallel to a slab and outside it.

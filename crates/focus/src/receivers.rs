@@ -51,7 +51,16 @@ use shadowfocus_geom::{Aabb, Body, Light};
 pub(crate) fn fit_receivers(out: &mut FocusResult, view: &PreparedView, scene: &Aabb) -> Result<(), FocusError> {
     let (maps, focuser, receivers) = out.maps_and_work();
     for map in maps.iter_mut().filter(|m| m.fit.state == MapState::Active) {
-        let Some(frustum) = view.frustum(map.split) else { continue };
+        // Optimal split placement moves the planes per light: its splits
+        // are cut anew.
+        let cut;
+        let frustum = if map.split_range == view.split_range(map.split) {
+            view.frustum(map.split)
+        } else {
+            cut = view.split_frustum(map.split_range)?;
+            cut.as_ref()
+        };
+        let Some(frustum) = frustum else { continue };
         let p = frustum.corners().iter().fold(DVec3::ZERO, |s, c| s + *c) * 0.125;
         let light = match map.light {
             Light::Spot { frustum, .. } => Light::Spot { position: p, frustum },
@@ -91,14 +100,13 @@ fn refit(map: &mut ShadowMap, r: &Body, view: &PreparedView) {
     map.fit.depth_clamp = settings.depth_clamp;
     if grow.is_some() {
         map.fit.footprint = settings.footprint;
-        map.fit.texel_size = texel_sizes(&m, &map.light, view, map.split);
+        map.fit.texel_size = texel_sizes(&m, &map.light, view, map.split_range);
     }
 }
 
 /// [`crate::MapFit::texel_size`] of a refitted matrix.
-fn texel_sizes(m: &DMat4, light: &Light, view: &PreparedView, split: usize) -> [f64; 2] {
+fn texel_sizes(m: &DMat4, light: &Light, view: &PreparedView, [near, far]: [f64; 2]) -> [f64; 2] {
     let (eye, fwd) = (view.camera().eye, view.forward());
-    let [near, far] = view.split_range(split);
     let (lp, res) = (light_point(light), view.settings().resolution);
     [texel_size(m, lp, eye + fwd * near, res), texel_size(m, lp, eye + fwd * far, res)]
 }

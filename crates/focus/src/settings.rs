@@ -52,6 +52,23 @@ pub enum SplitScheme {
         /// The weight λ ∈ [0, 1] of the logarithmic planes.
         lambda: f64,
     },
+    /// The first split ends at the view depth `first`, the others follow
+    /// geometrically to `far`: `C_i = first (f/first)^((i−1)/(m−1))` for
+    /// `1 ≤ i < m` — the cascades most engines ship (a first cascade of a
+    /// fixed length in world units). `first` is clamped into `[near, far]`.
+    Geometric {
+        /// The far end of the first split, a view depth in world units.
+        first: f64,
+    },
+    /// Planes placed per light so that the splits' predicted maximum
+    /// aliasing ([`crate::predict_aliasing`], receivers facing the camera)
+    /// is as even as the maps allow: starting from `Practical { λ = ½ }`,
+    /// each round refits every split and moves the planes in log depth
+    /// toward equal aliasing, and the best round's planes are kept — never
+    /// worse by the prediction than the start. Costs a few fits per frame
+    /// (see `PLACEMENT_ROUNDS`); the planes move with the view and the
+    /// light, so stable maps refuse it.
+    Optimal,
 }
 
 /// Parallel splits of the view frustum.
@@ -355,10 +372,18 @@ impl FocusSettings {
         if !(self.splits.delta_bias.is_finite() && self.splits.delta_bias >= 0.0) {
             return bad("splits.delta_bias", "must be finite and non-negative");
         }
-        if let SplitScheme::Practical { lambda } = self.splits.scheme {
-            if !(0.0..=1.0).contains(&lambda) {
-                return bad("splits.lambda", "must lie in [0, 1]");
+        match self.splits.scheme {
+            SplitScheme::Practical { lambda } if !(0.0..=1.0).contains(&lambda) => return bad("splits.lambda", "must lie in [0, 1]"),
+            SplitScheme::Geometric { first } if !(first.is_finite() && first > 0.0) => {
+                return bad("splits.first", "must be finite and positive")
             }
+            SplitScheme::Optimal if self.stable => {
+                return bad(
+                    "splits.scheme",
+                    "optimal placement moves the split planes with the view and the light; stable maps need planes that hold still",
+                )
+            }
+            _ => {}
         }
         if self.resolution < 4 {
             return bad("resolution", "must be at least 4 texels");

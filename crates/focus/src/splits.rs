@@ -22,10 +22,19 @@ pub fn split_depths(near: f64, far: f64, s: &SplitSettings, out: &mut [f64; MAX_
         // NOTE: n·(f/n)^t as exp(t·ln(f/n)) keeps full relative precision
         // for any ratio; both ends are exact (t ∈ (0, 1) only here).
         let log = near * (t * (far / near).ln()).exp();
+        let practical = |lambda: f64| lambda * log + (1.0 - lambda) * uni;
         let c = match s.scheme {
             SplitScheme::Uniform => uni,
             SplitScheme::Log => log,
-            SplitScheme::Practical { lambda } => lambda * log + (1.0 - lambda) * uni,
+            SplitScheme::Practical { lambda } => practical(lambda),
+            // The fit moves these planes per light (`fit::placement`); this
+            // is where it starts.
+            SplitScheme::Optimal => practical(0.5),
+            SplitScheme::Geometric { first } => {
+                let first = first.clamp(near, far);
+                let t = (i - 1) as f64 / (m - 1) as f64;
+                first * (t * (far / first).ln()).exp()
+            }
         } + s.delta_bias;
         out[i] = c.clamp(out[i - 1], far);
     }
@@ -66,6 +75,23 @@ mod tests {
         for i in 0..=4 {
             assert!((p[i] - 0.5 * (l[i] + u[i])).abs() <= 1e-9 * p[i]);
         }
+    }
+
+    /// The engines' cascades: a first split of a given length, the rest
+    /// geometric (a first split of 10 to a far of 1000 over four splits:
+    /// 10, 10·100^⅓, 10·100^⅔).
+    #[test]
+    fn geometric_starts_at_first() {
+        let g = depths(0.1, 1000.0, 4, SplitScheme::Geometric { first: 10.0 }, 0.0);
+        for (i, want) in [0.1, 10.0, 46.415_888_336_127_8, 215.443_469_003_188_4, 1000.0].iter().enumerate() {
+            assert!((g[i] - want).abs() <= 1e-12 * want, "{i}: {} vs {want}", g[i]);
+        }
+        // A first split beyond far is clamped to it: the others are empty.
+        let g = depths(0.1, 5.0, 3, SplitScheme::Geometric { first: 10.0 }, 0.0);
+        assert_eq!(g, vec![0.1, 5.0, 5.0, 5.0]);
+        // Two splits: the first plane is `first`.
+        let g = depths(0.5, 300.0, 2, SplitScheme::Geometric { first: 7.0 }, 0.0);
+        assert_eq!(g, vec![0.5, 7.0, 300.0]);
     }
 
     #[test]

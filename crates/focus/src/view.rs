@@ -27,6 +27,9 @@ pub struct PreparedView {
     pub(crate) splits: usize,
     /// `None` for a split that `delta_bias` left without depth.
     pub(crate) frusta: [Option<Frustum>; MAX_SPLITS],
+    /// The frustum given to [`PreparedView::prepare_frustum`] and the
+    /// camera given with it, for splits cut anew ([`PreparedView::split_frustum`]).
+    given: Option<(Frustum, Camera)>,
     /// Why the last preparation failed: every fit from the view gives it.
     pub(crate) failed: Option<FocusError>,
 }
@@ -50,6 +53,7 @@ impl PreparedView {
             depths: [0.0; MAX_SPLITS + 1],
             splits: 0,
             frusta: [None; MAX_SPLITS],
+            given: None,
             failed: None,
         }
     }
@@ -94,16 +98,24 @@ impl PreparedView {
         self.basis = camera.basis()?;
         self.camera = visible_range(camera, settings)?;
         self.settings = *settings;
+        self.given = given.map(|view| (*view, *camera));
         self.splits = split_depths(self.camera.near, self.camera.far, &settings.splits, &mut self.depths);
         for i in 0..self.splits {
-            let range = [self.depths[i], self.depths[i + 1]];
-            self.frusta[i] = match given {
-                _ if !(range[0] < range[1]) => None,
-                Some(view) => Some(slice(view, &self.camera, &self.basis, range, camera)?),
-                None => Some(Frustum::from_camera_in(&Camera { near: range[0], far: range[1], ..self.camera }, &self.basis)?),
-            };
+            self.frusta[i] = self.split_frustum([self.depths[i], self.depths[i + 1]])?;
         }
         Ok(())
+    }
+
+    /// The frustum of the view-depth range `range` (`None` for an empty
+    /// range): from the camera, or cut from the given frustum.
+    pub(crate) fn split_frustum(&self, range: [f64; 2]) -> Result<Option<Frustum>, FocusError> {
+        if !(range[0] < range[1]) {
+            return Ok(None);
+        }
+        Ok(Some(match &self.given {
+            Some((view, camera)) => slice(view, &self.camera, &self.basis, range, camera)?,
+            None => Frustum::from_camera_in(&Camera { near: range[0], far: range[1], ..self.camera }, &self.basis)?,
+        }))
     }
 
     /// The settings the view was prepared with.
@@ -118,7 +130,9 @@ impl PreparedView {
     }
 
     /// Split boundaries as view depths, one more than there are splits
-    /// (none after a failed preparation).
+    /// (none after a failed preparation). With
+    /// [`crate::SplitScheme::Optimal`] these are where the placement starts;
+    /// each light's own are [`crate::FocusResult::split_depths`].
     pub fn split_depths(&self) -> &[f64] {
         if self.failed.is_some() {
             return &[];

@@ -95,7 +95,16 @@ fn invalid_inputs_are_errors_with_messages() {
         ("light kind -1", Box::new(|_, l, _, _| l.kind = -1), "light.kind: -1 is not an SfLightKind value"),
         ("method 5", Box::new(|_, _, _, s| s.method = 5), "settings.method: 5 is not an SfMethod value"),
         ("method MIN", Box::new(|_, _, _, s| s.method = c_int::MIN), "is not an SfMethod value"),
-        ("split scheme 3", Box::new(|_, _, _, s| s.split_scheme = 3), "not an SfSplitScheme value"),
+        ("split scheme 5", Box::new(|_, _, _, s| s.split_scheme = 5), "not an SfSplitScheme value"),
+        ("geometric, first split not set", Box::new(|_, _, _, s| s.split_scheme = 3), "invalid setting splits.first"),
+        (
+            "optimal and stable",
+            Box::new(|_, _, _, s| {
+                s.split_scheme = 4;
+                s.stable = 1;
+            }),
+            "optimal placement moves the split planes",
+        ),
         ("warp direction 2", Box::new(|_, _, _, s| s.lispsm_warp = 2), "not an SfWarpDirection value"),
         ("point mode 9", Box::new(|_, _, _, s| s.point_mode = 9), "not an SfPointMode value"),
         ("orientation -3", Box::new(|_, _, _, s| s.orientation = -3), "not an SfOrientation value"),

@@ -132,7 +132,7 @@ pub fn method_strategy() -> impl Strategy<Value = Method> {
 }
 
 pub fn settings_strategy() -> impl Strategy<Value = FocusSettings> {
-    (method_strategy(), 1..=4usize, 0..3u8, 0.0..1.0f64, any::<bool>(), any::<bool>(), any::<bool>(), clip_strategy()).prop_map(
+    (method_strategy(), 1..=4usize, 0..5u8, 0.0..1.0f64, any::<bool>(), any::<bool>(), any::<bool>(), clip_strategy()).prop_map(
         |(method, count, scheme, lambda, stable, middle, cube, clip)| FocusSettings {
             method,
             splits: SplitSettings {
@@ -140,6 +140,10 @@ pub fn settings_strategy() -> impl Strategy<Value = FocusSettings> {
                 scheme: match scheme {
                     0 => SplitScheme::Uniform,
                     1 => SplitScheme::Log,
+                    // A first split of any length, down to none (clamped to near).
+                    2 => SplitScheme::Geometric { first: 0.05 + 100.0 * lambda * lambda },
+                    // Optimal placement refuses stable maps.
+                    3 if !stable => SplitScheme::Optimal,
                     _ => SplitScheme::Practical { lambda },
                 },
                 delta_bias: 0.0,

@@ -1,0 +1,186 @@
+//! [`crate::SplitScheme::Optimal`]: split planes that even out the splits'
+//! predicted maximum aliasing for one light.
+//!
+//! With the same texels per split, the frame's worst aliasing is the worst
+//! split's, so the planes are best where every split predicts the same
+//! maximum `a_i`. Write split `i`'s length in log depth `ℓ_i = ln(C_{i+1}/C_i)`
+//! (the logarithmic scheme makes them equal; the logarithmic bound is
+//! reached by texels spread evenly in `ln z`). Modelling each split's
+//! maximum as `a_i ≈ c_i ℓ_i²`, the planes with equal maxima and the same
+//! total `L = ln(f/n)` are
+//!
+//! `ℓ_i' = L · (ℓ_i / √a_i) / Σ_j (ℓ_j / √a_j)`,
+//!
+//! which one round computes from the maps fitted to the current planes.
+//! The square is a damping, not a law: a uniform map's maximum grows faster
+//! than linearly with `ℓ`, a strong warp's more slowly, and the linear model
+//! (`ℓ_i / a_i`) overshoots a near split whose receivers all lie beyond its
+//! new far plane, so that the planes swing between two bad placements. Each
+//! round's change of a split is limited to a factor `MAX_STEP` too, and the
+//! planes of the round with the least predicted worst split are kept:
+//! never worse, by the prediction, than the start.
+
+use crate::error::FocusError;
+use crate::MAX_SPLITS;
+
+/// Rounds of refitting after the start.
+pub(crate) const PLACEMENT_ROUNDS: usize = 4;
+
+/// Most a split's log-depth length changes by in one round (either way).
+const MAX_STEP: f64 = 4.0;
+
+/// A round that moves no split by more than this fraction of `L` is the
+/// last.
+const SETTLED: f64 = 1e-3;
+
+/// Split planes.
+pub(crate) type Planes = [f64; MAX_SPLITS + 1];
+
+/// Each split's predicted maximum aliasing; `None` where nothing is
+/// predicted (no map, or no receiver in the split).
+pub(crate) type SplitAliasing = [Option<f64>; MAX_SPLITS];
+
+/// Moves the `m` splits' inner planes of `planes` (outer planes fixed)
+/// toward equal predicted aliasing. `fit` fits every split to the planes it
+/// is given and predicts each split's maximum; when this returns, the last
+/// call of `fit` was with the planes left in `planes`.
+pub(crate) fn place(
+    planes: &mut Planes,
+    m: usize,
+    mut fit: impl FnMut(&Planes) -> Result<SplitAliasing, FocusError>,
+) -> Result<(), FocusError> {
+    let mut best = (*planes, f64::INFINITY);
+    let mut last_is_best = true;
+    for round in 0..=PLACEMENT_ROUNDS {
+        let a = fit(planes)?;
+        let worst = worst(&a, m);
+        last_is_best = round == 0 || worst < best.1;
+        if last_is_best {
+            best = (*planes, worst);
+        }
+        if round == PLACEMENT_ROUNDS || !rebalance(planes, m, &a) {
+            break;
+        }
+    }
+    if !last_is_best {
+        *planes = best.0;
+        fit(planes)?;
+    }
+    Ok(())
+}
+
+/// The worst split's prediction (0 where none predicts anything).
+fn worst(a: &SplitAliasing, m: usize) -> f64 {
+    a[..m].iter().flatten().fold(0.0, |w: f64, &x| if x.is_nan() { f64::INFINITY } else { w.max(x) })
+}
+
+/// One round of the update above; `false` when it has nothing to move.
+fn rebalance(planes: &mut Planes, m: usize, a: &SplitAliasing) -> bool {
+    let (near, far) = (planes[0], planes[m]);
+    let total = (far / near).ln();
+    let mut len = [0.0; MAX_SPLITS];
+    // Splits with a prediction share what the others leave.
+    let (mut share, mut weight, mut judged) = (total, 0.0, 0);
+    for i in 0..m {
+        len[i] = (planes[i + 1] / planes[i]).ln();
+        match a[i] {
+            Some(x) if x > 0.0 && len[i] > 0.0 => {
+                weight += len[i] / x.sqrt();
+                judged += 1;
+            }
+            _ => share -= len[i],
+        }
+    }
+    if judged < 2 || !(weight > 0.0) || !(share > 0.0) {
+        return false;
+    }
+    let mut new = len;
+    let mut sum = 0.0;
+    for i in 0..m {
+        if let Some(x) = a[i].filter(|&x| x > 0.0 && len[i] > 0.0) {
+            new[i] = (share * (len[i] / x.sqrt()) / weight).clamp(len[i] / MAX_STEP, len[i] * MAX_STEP);
+            sum += new[i];
+        }
+    }
+    // The clamp may leave the total off: scale the judged splits back.
+    let mut moved = 0.0f64;
+    for i in 0..m {
+        if a[i].is_some_and(|x| x > 0.0) && len[i] > 0.0 {
+            new[i] *= share / sum;
+            moved = moved.max((new[i] - len[i]).abs());
+        }
+    }
+    if !(moved > SETTLED * total) {
+        return false;
+    }
+    for i in 1..m {
+        // NOTE: each plane from the near end keeps relative precision; the
+        // far plane stays exactly `far` and the order is kept by the clamp.
+        planes[i] = (planes[i - 1] * new[i - 1].exp()).clamp(planes[i - 1], far);
+    }
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Splits whose maximum is `c_i · ℓ_i²` are evened out in one round.
+    #[test]
+    fn the_model_is_solved_in_one_round() {
+        let c = [4.0, 1.0, 1.5, 2.0];
+        let mut planes = [0.0; MAX_SPLITS + 1];
+        planes[..5].copy_from_slice(&[0.1, 1.0, 10.0, 100.0, 1000.0]);
+        let mut rounds = 0;
+        let model = |p: &Planes| {
+            let mut a = [None; MAX_SPLITS];
+            for i in 0..4 {
+                a[i] = Some(c[i] * (p[i + 1] / p[i]).ln().powi(2));
+            }
+            a
+        };
+        place(&mut planes, 4, |p| {
+            rounds += 1;
+            Ok(model(p))
+        })
+        .unwrap();
+        let a = model(&planes);
+        let (lo, hi) = a[..4].iter().flatten().fold((f64::INFINITY, 0.0f64), |(l, h), &x| (l.min(x), h.max(x)));
+        assert!(hi / lo < 1.0 + 1e-9, "{a:?}");
+        assert_eq!(planes[0], 0.1);
+        assert_eq!(planes[4], 1000.0);
+        assert!(planes[..5].windows(2).all(|w| w[0] < w[1]), "{planes:?}");
+        // The start and one round, after which nothing moves.
+        assert_eq!(rounds, 2);
+    }
+
+    /// A round that predicts worse than an earlier one is undone: the
+    /// planes kept are the best seen, and the last fit is with them.
+    #[test]
+    fn the_best_round_is_kept() {
+        let mut planes = [0.0; MAX_SPLITS + 1];
+        planes[..3].copy_from_slice(&[1.0, 10.0, 100.0]);
+        let start = planes;
+        let mut last = planes;
+        // Whatever the planes, moving them makes things worse.
+        place(&mut planes, 2, |p| {
+            last = *p;
+            let moved = (p[1] - 10.0).abs();
+            Ok([Some(1.0 + moved), Some(3.0 + moved), None, None, None, None, None, None])
+        })
+        .unwrap();
+        assert_eq!(planes, start);
+        assert_eq!(last, start);
+    }
+
+    /// Splits without a prediction keep their length; a single judged split
+    /// has nothing to be balanced against.
+    #[test]
+    fn unjudged_splits_hold() {
+        let mut planes = [0.0; MAX_SPLITS + 1];
+        planes[..4].copy_from_slice(&[1.0, 2.0, 20.0, 200.0]);
+        let start = planes;
+        place(&mut planes, 3, |_| Ok([None, Some(5.0), None, None, None, None, None, None])).unwrap();
+        assert_eq!(planes, start);
+    }
+}
