@@ -6,6 +6,7 @@ use render::{contact_sheet, write_outputs, Image, LightSpec, RenderRequest, Rend
 use serde_json::{json, Value};
 use shadowfocus_focus::{
     cull_casters, fit, fit_prepared_with_state, DepthRange, DepthTest, FitState, FocusResult, FocusSettings, Method, PreparedView,
+    predict_aliasing,
 };
 use shadowfocus_geom::{Aabb, Camera, Frustum, Light};
 use shadowfocus_render as render;
@@ -75,8 +76,10 @@ pub fn fit_frame(
     let mut specs = Vec::new();
     let mut utilisation = Vec::new();
     let mut h_depth_span = Vec::new();
+    let mut predicted = Vec::new();
     for m in result.maps().iter().filter(|m| m.is_active()) {
         utilisation.push(m.utilisation());
+        predicted.push(predict_aliasing(m, &camera, &bounds).map(|p| p.max));
         h_depth_span.push(depth_span(&m.fit.clip_from_world, m.body().vertices()));
         let n = cull_casters(m, &boxes, &mut idx).map_err(|e| e.to_string())?;
         specs.push(ShadowMapSpec {
@@ -100,6 +103,7 @@ pub fn fit_frame(
         "maps_active": specs.len(),
         "utilisation": utilisation,
         "h_depth_span": h_depth_span,
+        "predicted_aliasing": predicted,
     });
     Ok((specs, focusing_us, summary))
 }
@@ -227,6 +231,12 @@ pub fn render_frame(
     }
     req.settings.save_shadow_maps = maps;
     let out = renderer.render(&req).map_err(|e| e.to_string())?;
+    // Each map's predicted maximum in screen pixels per texel, beside the
+    // measured `map_aliasing_max` (receivers facing the camera: a receiver
+    // the light or the eye grazes measures more or less).
+    let per_texel = ((size.0 as f64) * (size.1 as f64)).sqrt() / opts.resolution as f64;
+    let predicted_px: Vec<Option<f64>> =
+        summary["predicted_aliasing"].as_array().map_or(Vec::new(), |a| a.iter().map(|v| v.as_f64().map(|e| e * per_texel)).collect());
     let extra = json!({
         "method": opts.method.name(),
         "splits": opts.splits,
@@ -237,6 +247,7 @@ pub fn render_frame(
         "fit_receivers": opts.fit_receivers,
         "visible_depth": sdsm,
         "focusing_us": focusing_us,
+        "predicted_aliasing_px": predicted_px,
         "fit": summary,
     });
     Ok((out, extra))

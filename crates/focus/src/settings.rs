@@ -61,8 +61,8 @@ pub enum SplitScheme {
         first: f64,
     },
     /// Planes placed per light so that the splits' predicted maximum
-    /// aliasing ([`crate::predict_aliasing`], receivers facing the camera)
-    /// is as even as the maps allow: starting from `Practical { λ = ½ }`,
+    /// aliasing ([`crate::predict_aliasing`]: at the receivers the scene box
+    /// implies) is as even as the maps allow: starting from `Practical { λ = ½ }`,
     /// each round refits every split and moves the planes in log depth
     /// toward equal aliasing, and the best round's planes are kept — never
     /// worse by the prediction than the start. Costs a few fits per frame

@@ -1,5 +1,5 @@
-//! A map's predicted aliasing along the view, in absolute terms: what the
-//! renderer measures per pixel, for receivers facing the camera.
+//! A map's predicted aliasing, in absolute terms: what the renderer
+//! measures per pixel, from the matrices alone.
 //!
 //! At a point `p` on a receiver with unit normal `t`, the screen pixels per
 //! texel are `e(p) = √(a_C(p, t) / a_M(p, t)) · √(W·H) / T`, where `a_C`
@@ -10,48 +10,41 @@
 //! prediction keeps the dimensionless first factor; [`ViewAliasing::in_pixels`]
 //! applies the second.
 //!
-//! The receiver is taken facing the camera (`t` along the camera ray), as
-//! the logarithmic bound of the renderer (`bound.rs`) takes it: the angle
-//! terms are then 1, and a real receiver the light grazes aliases more by
-//! exactly its own angle term. The points are where receivers can be: on
-//! each of nine camera rays (the image's corners, edge midpoints and
-//! centre), the part inside the split's depth range and the bounding box of
-//! the map's body `H_i` (a visible receiver lies in `V_i ∩ S`, and every
-//! point of `R_i` lies in `H_i`), sampled at `DEPTH_SAMPLES` depths spaced
-//! evenly in log depth from its near end to its far end.
-//!
-//! NOTE: along one ray, with `t` fixed, `a_C ∝ 1/z²` and
-//! `a_M = |L(p)·t| / w_M(p)³` with `L` and `w_M` affine in `p` (the quotient
-//! rule applied to the map's rows), so `e² ∝ w_M³ / (z² |L·t|)`: a uniform
-//! map's maximum is at the near end, a warp's may lie inside, which the
-//! inner samples catch. Nine rays and five depths are a prediction, not a
-//! bound: a receiver between the rays can alias more.
+//! Where the receivers are is what the fit does not know: only the scene
+//! box. Taking them anywhere in `V ∩ S` (facing the camera, as the
+//! logarithmic bound does) puts them in the air at the near plane, where a
+//! camera inside the box sees nothing, and the prediction there is the
+//! near plane's, 9–300× what any pixel measures on the built-in scenes. So the receivers are taken
+//! where the camera rays leave the scene box: its floor seen from above is
+//! the ground, its walls the walls. Casters stand in front of those faces;
+//! they are the part the prediction misses.
 
 use crate::predict::clip_ray;
 use crate::project::{image_area_scale, post_perspective};
 use crate::result::{CubeFace, MapState, ShadowMap};
 use crate::MAX_SPLITS;
 use glam::{DMat4, DVec3};
-use shadowfocus_geom::{Camera, CameraBasis, Light};
+use shadowfocus_geom::{Aabb, Camera, CameraBasis, Light};
 
-/// Depths sampled on each camera ray, from the segment's near end to its
-/// far end.
-pub(crate) const DEPTH_SAMPLES: usize = 5;
+/// Camera rays per image side: the receivers are sampled on
+/// `RECEIVER_RAYS²` rays spread evenly over the image.
+pub(crate) const RECEIVER_RAYS: usize = 9;
 
-/// A map's predicted aliasing over its split for receivers facing the
-/// camera (see [`predict_aliasing`]), dimensionless: multiply by
-/// `√(W·H) / T` ([`ViewAliasing::in_pixels`]) for screen pixels per texel
-/// of a `W×H` image and a `T×T` map.
+/// A map's predicted aliasing at the receivers the scene box implies (see
+/// [`predict_aliasing`]), dimensionless: multiply by `√(W·H) / T`
+/// ([`ViewAliasing::in_pixels`]) for screen pixels per texel of a `W×H`
+/// image and a `T×T` map.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ViewAliasing {
-    /// The largest value at the near end of the receivers' depth range in
-    /// the split (over the nine rays).
+    /// At the nearest receiver sample of the split.
     pub near: f64,
-    /// The largest value at the far end.
+    /// At the farthest.
     pub far: f64,
-    /// The largest value over every sample of the split.
+    /// The largest over the split's samples.
     pub max: f64,
+    /// The view depths of the nearest and farthest samples.
+    pub depths: [f64; 2],
 }
 
 impl ViewAliasing {
@@ -59,158 +52,105 @@ impl ViewAliasing {
     /// `texels` per side.
     pub fn in_pixels(self, width: f64, height: f64, texels: f64) -> ViewAliasing {
         let k = (width * height).sqrt() / texels;
-        ViewAliasing { near: self.near * k, far: self.far * k, max: self.max * k }
+        ViewAliasing { near: self.near * k, far: self.far * k, max: self.max * k, ..self }
     }
 
-    /// The larger of two predictions, side by side (a split's maps).
-    pub(crate) fn worst(self, other: ViewAliasing) -> ViewAliasing {
-        ViewAliasing { near: self.near.max(other.near), far: self.far.max(other.far), max: self.max.max(other.max) }
+    /// The prediction with one more sample, `e` at view depth `z`.
+    fn with(self, e: f64, z: f64) -> ViewAliasing {
+        let mut v = ViewAliasing { max: self.max.max(e), ..self };
+        if z < v.depths[0] {
+            (v.near, v.depths[0]) = (e, z);
+        }
+        if z > v.depths[1] {
+            (v.far, v.depths[1]) = (e, z);
+        }
+        v
+    }
+
+    fn one(e: f64, z: f64) -> ViewAliasing {
+        ViewAliasing { near: e, far: e, max: e, depths: [z, z] }
     }
 }
 
 /// The predicted aliasing of `map` for the view of `camera` (the camera the
-/// map was fitted for, with the full depth range: the split's comes from
-/// the map), for receivers facing the camera; `None` for a map with nothing
-/// to render, or where no camera ray meets its body's box in the split.
+/// maps were fitted for, its full depth range) in the scene box `scene`;
+/// `None` for a map with nothing to render, or one that serves none of the
+/// receiver samples.
 ///
-/// This is the renderer's measured quantity (`metrics.json`'s `aliasing`)
-/// up to the receivers' angle terms, computed from the matrices alone, so it
-/// can choose between parameterisations and place splits before anything is
-/// rendered. For a cube face only the points the face serves
-/// ([`CubeFace::toward`]) count.
-pub fn predict_aliasing(map: &ShadowMap, camera: &Camera) -> Option<ViewAliasing> {
-    let basis = camera.basis().ok()?;
-    map_aliasing(map, camera, &basis)
-}
-
-/// [`predict_aliasing`] with the camera's basis given.
-pub(crate) fn map_aliasing(map: &ShadowMap, camera: &Camera, basis: &CameraBasis) -> Option<ViewAliasing> {
-    if map.fit.state != MapState::Active || map.body().is_empty() {
+/// The receivers are where each of `RECEIVER_RAYS²` camera rays, spread
+/// evenly over the image, leaves the scene box (a ground, a wall: that
+/// face's normal): a camera inside the scene box sees its surfaces, not the
+/// air in front of its near plane. A ray that reaches the far plane inside
+/// the box has no receiver the fit knows of (the sky above a terrain, fog). A sample counts for the map of the split that holds its
+/// depth (and, for a cube face, that serves its direction). Casters inside
+/// the box are receivers too, nearer than its faces; a warp's aliasing
+/// there is no worse than at the face behind them on the same ray for the
+/// maps' usual near-favouring warps, a uniform map's is.
+pub fn predict_aliasing(map: &ShadowMap, camera: &Camera, scene: &Aabb) -> Option<ViewAliasing> {
+    if map.fit.state != MapState::Active {
         return None;
     }
-    let (lo, hi) = bounds(map.body().vertices());
-    let face = match (map.face, &map.light) {
-        (Some(f), Light::Spot { position, .. }) => Some((f, *position)),
-        _ => None,
-    };
-    let split = Camera { near: map.split_range[0], far: map.split_range[1], ..*camera };
-    rays_aliasing(&map.fit.clip_from_world, &split, basis, (lo, hi), face)
-}
-
-/// The prediction of the clip matrix `m` over the receivers of `camera`'s
-/// depth range inside the box `[lo, hi]`, counting only points whose
-/// direction from the light `face.1` picks the cube face `face.0`.
-fn rays_aliasing(
-    m: &DMat4,
-    camera: &Camera,
-    basis: &CameraBasis,
-    (lo, hi): (DVec3, DVec3),
-    face: Option<(CubeFace, DVec3)>,
-) -> Option<ViewAliasing> {
-    let camera_clip = post_perspective(camera, basis, 0.0);
-    let ty = (0.5 * camera.fovy).tan();
-    let tx = ty * camera.aspect;
-    let mut out: Option<ViewAliasing> = None;
-    for gy in [-1.0, 0.0, 1.0] {
-        for gx in [-1.0, 0.0, 1.0] {
-            // The ray eye + z·d, z the view depth (d·forward = 1).
-            let d = basis.forward + basis.right * (gx * tx) + basis.up * (gy * ty);
-            let Some(seg) = clip_ray(camera.eye, d, camera.near, camera.far, lo, hi) else { continue };
-            let facing = -d / d.length();
-            let mut ray = ViewAliasing { near: f64::NAN, far: f64::NAN, max: 0.0 };
-            let mut seen = false;
-            for k in 0..DEPTH_SAMPLES {
-                let t = k as f64 / (DEPTH_SAMPLES - 1) as f64;
-                // NOTE: entry·(exit/entry)^t keeps both ends exact (t = 0, 1).
-                let z = if k + 1 == DEPTH_SAMPLES { seg.depth } else { seg.entry * (t * (seg.depth / seg.entry).ln()).exp() };
-                let p = camera.eye + d * z;
-                if face.is_some_and(|(f, l)| CubeFace::toward(p - l) != f) {
-                    continue;
-                }
-                let e = (image_area_scale(&camera_clip, p, facing) / image_area_scale(m, p, facing)).sqrt();
-                // NOTE: a point the map cannot see (w ≤ 0) gives NaN: it
-                // makes the prediction infinite, never smaller.
-                let e = if e.is_nan() { f64::INFINITY } else { e };
-                if k == 0 {
-                    ray.near = e;
-                }
-                if k + 1 == DEPTH_SAMPLES {
-                    ray.far = e;
-                }
-                ray.max = ray.max.max(e);
-                seen = true;
-            }
-            if seen {
-                let ray = ViewAliasing { near: finite_or_zero(ray.near), far: finite_or_zero(ray.far), ..ray };
-                out = Some(out.map_or(ray, |o| o.worst(ray)));
-            }
+    let basis = camera.basis().ok()?;
+    let camera_clip = post_perspective(camera, &basis, 0.0);
+    let mut out = None;
+    each_receiver(camera, &basis, (scene.min, scene.max), &map.split_range, |_, p, n, z| {
+        if let Some(e) = aliasing_in(map, &camera_clip, p, n) {
+            out = Some(out.map_or(ViewAliasing::one(e, z), |v: ViewAliasing| v.with(e, z)));
         }
-    }
+    });
     out
 }
 
-/// An end the face filter skipped counts as nothing (NaN), an unseen one
-/// as infinite.
-fn finite_or_zero(e: f64) -> f64 {
-    if e.is_nan() {
-        0.0
-    } else {
-        e
-    }
-}
-
-fn bounds(pts: &[DVec3]) -> (DVec3, DVec3) {
-    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
-    for p in pts {
-        lo = lo.min(*p);
-        hi = hi.max(*p);
-    }
-    (lo, hi)
-}
-
-/// Camera rays per image side for [`receiver_aliasing`].
-pub(crate) const RECEIVER_RAYS: usize = 9;
-
-/// Each split's predicted maximum aliasing at the receivers the scene box
-/// implies, `None` for a split no camera ray ends in. On each of
-/// `RECEIVER_RAYS²` camera rays spread evenly over the image, the receiver
-/// is taken where the ray leaves the scene box `[lo, hi]` (a ground, a
-/// wall: that face's normal) or reaches the far plane (facing the camera),
-/// and judged in the map of the split holding it that serves it.
-///
-/// NOTE: this is what split placement needs and [`predict_aliasing`] does
-/// not give: a camera inside the scene box sees its surfaces, not the air
-/// in front of the near plane, and a plane placed for air near the camera
-/// (the logarithmic scheme's first split) spends a map on nothing.
-pub(crate) fn receiver_aliasing(
-    maps: &[ShadowMap],
-    depths: &[f64],
-    camera: &Camera,
-    basis: &CameraBasis,
-    (lo, hi): (DVec3, DVec3),
-) -> [Option<f64>; MAX_SPLITS] {
+/// Each split's predicted aliasing ([`predict_aliasing`]) of the maps
+/// `maps` fitted for the planes `depths`, `None` for a split no sample
+/// lands in.
+pub(crate) fn receiver_aliasing(maps: &[ShadowMap], depths: &[f64], camera: &Camera, basis: &CameraBasis, scene: (DVec3, DVec3)) -> [Option<ViewAliasing>; MAX_SPLITS] {
     let mut out = [None; MAX_SPLITS];
-    let Some(m) = depths.len().checked_sub(1).filter(|&m| m > 0) else { return out };
     let camera_clip = post_perspective(camera, basis, 0.0);
+    each_receiver(camera, basis, scene, depths, |split, p, n, z| {
+        let Some(e) = split_map(maps, split, p).and_then(|map| aliasing_in(map, &camera_clip, p, n)) else { return };
+        out[split] = Some(out[split].map_or(ViewAliasing::one(e, z), |v: ViewAliasing| v.with(e, z)));
+    });
+    out
+}
+
+/// Calls `f(split, p, n, z)` for each receiver sample (point `p`, unit
+/// normal `n`, view depth `z`) in the depth range `depths[0]..=depths[m]`,
+/// `split` the index of the range `[depths[i], depths[i + 1]]` holding `z`.
+fn each_receiver(camera: &Camera, basis: &CameraBasis, (lo, hi): (DVec3, DVec3), depths: &[f64], mut f: impl FnMut(usize, DVec3, DVec3, f64)) {
+    let Some(m) = depths.len().checked_sub(1).filter(|&m| m > 0) else { return };
     let ty = (0.5 * camera.fovy).tan();
     let tx = ty * camera.aspect;
     let g = |k: usize| 2.0 * k as f64 / (RECEIVER_RAYS - 1) as f64 - 1.0;
     for j in 0..RECEIVER_RAYS {
         for i in 0..RECEIVER_RAYS {
             let d = basis.forward + basis.right * (g(i) * tx) + basis.up * (g(j) * ty);
-            let Some(exit) = clip_ray(camera.eye, d, depths[0], depths[m], lo, hi) else { continue };
-            let p = camera.eye + d * exit.depth;
-            let n = exit.axis.map_or(-d / d.length(), |k| DVec3::AXES[k]);
-            let split = depths[1..m].partition_point(|&c| c < exit.depth);
-            let Some(map) = split_map(maps, split, p) else { continue };
-            let e = (image_area_scale(&camera_clip, p, n) / image_area_scale(&map.fit.clip_from_world, p, n)).sqrt();
-            // NOTE: a point the map cannot see (w ≤ 0) gives NaN: it makes
-            // the prediction infinite, never smaller.
-            let e = if e.is_nan() { f64::INFINITY } else { e };
-            out[split] = Some(out[split].map_or(e, |x: f64| x.max(e)));
+            // The ray is clipped to the camera's whole range: a ray that
+            // leaves the box beyond the planes has no receiver in them.
+            let Some(exit) = clip_ray(camera.eye, d, camera.near, camera.far, lo, hi) else { continue };
+            let z = exit.depth;
+            if z < depths[0] || z > depths[m] {
+                continue;
+            }
+            let Some(axis) = exit.axis else { continue };
+            let n = DVec3::AXES[axis];
+            f(depths[1..m].partition_point(|&c| c < z), camera.eye + d * z, n, z);
         }
     }
-    out
+}
+
+/// The aliasing of `map` at `p` on a receiver with normal `n`
+/// (dimensionless); infinite where the map cannot see `p` (NaN from `w ≤
+/// 0`: never a smaller prediction); `None` for a cube face that does not
+/// serve `p`.
+fn aliasing_in(map: &ShadowMap, camera_clip: &DMat4, p: DVec3, n: DVec3) -> Option<f64> {
+    if let (Some(f), Light::Spot { position, .. }) = (map.face, &map.light) {
+        if CubeFace::toward(p - *position) != f {
+            return None;
+        }
+    }
+    let e = (image_area_scale(camera_clip, p, n) / image_area_scale(&map.fit.clip_from_world, p, n)).sqrt();
+    Some(if e.is_nan() { f64::INFINITY } else { e })
 }
 
 /// The active map of `split` that serves the point `p` (for a cube, the

@@ -651,3 +651,34 @@ fn cull_casters_refuses_a_short_output() {
     assert_eq!(idx, [0, 1, 2]);
     assert_eq!(cull_casters(m, &[], &mut []), Ok(0));
 }
+
+/// `predict_aliasing` against the closed form: a camera `h` above a floor
+/// looking straight down, a uniform sun map from straight above. Under the
+/// image centre the floor is `h` away and faces the camera, so a pixel
+/// covers `2h·tan(fovy/2)/H` of it per side and a texel `2/(|x row|·T)` by
+/// `2/(|y row|·T)`; everywhere else the floor is farther and oblique, so the
+/// centre is the maximum and the nearest sample.
+#[test]
+fn predicted_aliasing_matches_the_closed_form_over_a_floor() {
+    let scene = Aabb::new(DVec3::new(-50.0, 0.0, -50.0), DVec3::new(50.0, 10.0, 50.0)).unwrap();
+    for (h, fovy) in [(5.0, 1.0), (2.5, 0.4), (9.0, 1.3)] {
+        let cam = Camera { eye: DVec3::new(1.0, h, -2.0), forward: DVec3::NEG_Y, up: DVec3::Z, fovy, aspect: 1.0, near: 0.1, far: 100.0 };
+        let s = FocusSettings { method: Method::Uniform, ..FocusSettings::default() };
+        let out = fit1(&cam, &Light::directional(DVec3::NEG_Y).unwrap(), &scene, &s);
+        let map = &out.maps()[0];
+        let m = map.fit.clip_from_world;
+        assert_eq!(m.row(3), glam::DVec4::W, "an orthographic map");
+        let (size, texels) = (720.0, 1024.0);
+        let texel = (4.0 / (m.row(0).truncate().length() * m.row(1).truncate().length())).sqrt() / texels;
+        let pixel = 2.0 * h * (0.5 * fovy).tan() / size;
+        let p = predict_aliasing(map, &cam, &scene).unwrap().in_pixels(size, size, texels);
+        let want = texel / pixel;
+        assert!((p.max / want - 1.0).abs() < 1e-9, "h {h}: predicted {p:?}, closed form {want}");
+        assert_eq!((p.near, p.depths[0]), (p.max, h));
+        // A map with nothing to render predicts nothing.
+        let mut empty = FocusResult::new();
+        let away = Camera { eye: DVec3::new(0.0, 50.0, 0.0), forward: DVec3::Y, up: DVec3::Z, ..cam };
+        fit(&away, &Light::directional(DVec3::NEG_Y).unwrap(), &scene, &s, &mut empty).unwrap();
+        assert!(!empty.maps().is_empty() && empty.maps().iter().all(|m| !m.is_active() && predict_aliasing(m, &away, &scene).is_none()));
+    }
+}

@@ -13,22 +13,37 @@ fn pixel_pos(w: &[f32; 4]) -> DVec3 {
     DVec3::new(w[0] as f64, w[1] as f64, w[2] as f64)
 }
 
-pub(crate) fn aliasing_stats(req: &RenderRequest, out: &RenderOutput) -> AliasingStats {
-    let mut v: Vec<f64> = Vec::new();
-    for (i, w) in out.world.iter().enumerate() {
+/// The aliasing of every pixel the statistics count (a visible receiver
+/// that faces the light, inside a spot's cone, served by a map), with the
+/// map that serves it.
+fn counted_aliasing<'a>(req: &'a RenderRequest, out: &'a RenderOutput) -> impl Iterator<Item = (i32, f64)> + 'a {
+    out.world.iter().enumerate().filter_map(|(i, w)| {
         let e = out.aliasing[i];
         // NaN (background) and −1 (uncovered) both fail `e >= 0`.
         if w[3] != 1.0 || e.is_nan() || e < 0.0 {
-            continue;
+            return None;
         }
         let p = pixel_pos(w);
         let n = DVec3::new(out.normal[i][0] as f64, out.normal[i][1] as f64, out.normal[i][2] as f64);
         let (l, _) = req.light.toward_light(p);
-        if n.dot(l) <= 0.0 || !req.light.in_spot(p) {
-            continue;
+        (n.dot(l) > 0.0 && req.light.in_spot(p)).then_some((out.split[i], e as f64))
+    })
+}
+
+/// Per map, the largest aliasing among the pixels it serves (NaN for a map
+/// that serves none).
+pub(crate) fn map_aliasing_max(req: &RenderRequest, out: &RenderOutput) -> Vec<f64> {
+    let mut max = vec![f64::NAN; req.maps.len()];
+    for (map, e) in counted_aliasing(req, out) {
+        if let Some(m) = usize::try_from(map).ok().and_then(|k| max.get_mut(k)) {
+            *m = if m.is_nan() { e } else { m.max(e) };
         }
-        v.push(e as f64);
     }
+    max
+}
+
+pub(crate) fn aliasing_stats(req: &RenderRequest, out: &RenderOutput) -> AliasingStats {
+    let mut v: Vec<f64> = counted_aliasing(req, out).map(|(_, e)| e).collect();
     let s = &req.settings;
     let texels = req.maps.len() as f64 * s.shadow_resolution as f64 * s.shadow_resolution as f64;
     let c = &req.camera;
@@ -257,6 +272,7 @@ pub(crate) fn compute(
         coverage,
         casters: CasterStats { per_map, draw_calls: draw_calls.to_vec(), drawn: union.len() as u32, total: req.scene.objects.len() as u32 },
         split_pixels,
+        map_aliasing_max: map_aliasing_max(req, out),
         map_utilisation: req.utilisation.to_vec(),
         utilisation_min: utilisation_min(req.utilisation),
         utilisation_mean: utilisation_mean(req.utilisation),

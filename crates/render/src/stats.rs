@@ -110,6 +110,9 @@ pub struct RenderMetrics {
     pub casters: CasterStats,
     /// Visible pixels served by each map.
     pub split_pixels: Vec<u64>,
+    /// Per map, the largest aliasing among the pixels `aliasing` counts that
+    /// it serves (null for a map that serves none).
+    pub map_aliasing_max: Vec<f64>,
     /// Per map, the fraction of its area its focus body's projection covers, as given in the
     /// request (empty when not given), and their least and mean values (null when not given).
     pub map_utilisation: Vec<f64>,
