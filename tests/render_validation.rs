@@ -392,6 +392,39 @@ fn predicted_aliasing_agrees_with_the_measured_maximum() {
 }
 
 #[test]
+fn receivers_at_a_maps_far_face_are_not_shadowed_by_nothing() {
+    // A sun low behind a viewer 1.7 m above the ground: each split's
+    // farthest point from the light is its receivers at its far end, on the
+    // map's far depth face. Sweeping the first split's length (engine-style
+    // geometric planes) moves those receivers across the map's texel rows, so
+    // that in some configurations a pixel row's receivers sit within a texel
+    // of the far face, where the receiver-plane filter's taps read texels
+    // that nothing was drawn into. Those must read as lit.
+    let s = scene("robot-war");
+    let o = shadowfocus_cli::cli::overrides::Overrides {
+        camera: Some(shadowfocus_cli::cli::overrides::parse_camera("-20,1.7,-590,0.08,-0.04,1,60,0.1,1000").unwrap()),
+        light: Some(shadowfocus_cli::cli::overrides::parse_light("directional:0.078534,-0.173648,0.981671").unwrap()),
+    };
+    let frame = shadowfocus_cli::cli::overrides::Frame::with(&s, &o).unwrap();
+    let mut guard = RENDERER.lock().unwrap_or_else(|e| e.into_inner());
+    let renderer = guard.get_or_insert_with(|| Renderer::from_env().expect("a wgpu adapter (llvmpipe on a fresh machine)"));
+    for k in 0..9 {
+        let first = 9.0 + 0.25 * k as f64;
+        let opts = FitOptions {
+            method: Method::Uniform,
+            splits: 4,
+            resolution: RES / 2,
+            scheme: Some(format!("geometric:{first}")),
+            ..FitOptions::default()
+        };
+        let (out, _) = shadowfocus_cli::cli::render::render_frame(renderer, &s, &frame, &opts, SIZE, false, None).unwrap();
+        let m = out.metrics.mismatch.unwrap();
+        assert!(m.adequate_pixels >= MIN_ADEQUATE_PIXELS, "first split {first}: {m:?}");
+        assert!(m.rate_adequate <= ADEQUATE_LIMIT, "first split {first}: {m:?}");
+    }
+}
+
+#[test]
 fn the_renderer_refuses_what_it_cannot_render_right() {
     // wgpu keeps clip depth in [0, 1]: OpenGL's [−1, 1] maps would lose
     // every caster in front of the map's middle. Refused, with the reason.

@@ -5,8 +5,8 @@ use super::overrides::{Frame, Overrides};
 use render::{contact_sheet, write_outputs, Image, LightSpec, RenderRequest, Renderer, Scene, ShadowMapSpec};
 use serde_json::{json, Value};
 use shadowfocus_focus::{
-    cull_casters, fit, fit_prepared_with_state, DepthRange, DepthTest, FitState, FocusResult, FocusSettings, Method, PreparedView,
-    predict_aliasing,
+    cull_casters, fit, fit_prepared_with_state, predict_aliasing, DepthRange, DepthTest, FitState, FocusResult, FocusSettings, Method,
+    PreparedView,
 };
 use shadowfocus_geom::{Aabb, Camera, Frustum, Light};
 use shadowfocus_render as render;

@@ -39,10 +39,11 @@ pub struct SweepOptions {
     /// Built-in scene name or glTF file.
     #[arg(long)]
     pub scene: String,
-    /// Methods: uniform, psm, lispsm, tsm, and METHOD followed by a split
-    /// count (lispsm4: four practical λ = 0.5 splits with the texel budget of
-    /// one map, i.e. R/2 per side each); with -stable, stable maps compared
-    /// with uniform-stable (lispsm-stable).
+    /// Methods: uniform, psm, lispsm, tsm, auto, and METHOD followed by a
+    /// split count (lispsm4: four practical λ = 0.5 splits with the texel
+    /// budget of one map, i.e. R/2 per side each), optionally with @SCHEME
+    /// for the split planes (auto4@optimal, lispsm4@geometric:10); with
+    /// -stable, stable maps compared with uniform-stable (lispsm-stable).
     #[arg(long, value_delimiter = ',', default_value = "uniform,psm,lispsm,tsm,lispsm4", value_parser = parse_sweep_method)]
     pub methods: Vec<SweepMethod>,
     /// Sun elevations above the horizon, degrees.
@@ -87,6 +88,9 @@ pub struct SweepMethod {
     pub sdsm: bool,
     /// Stable maps (`-stable`): compared with `uniform-stable`.
     pub stable: bool,
+    /// The split scheme (`@SCHEME`, as `--scheme` takes it); `None`: the
+    /// default.
+    pub scheme: Option<String>,
 }
 
 /// `uniform`, `psm`, `lispsm`, `tsm`, or one of them followed by a split
@@ -97,6 +101,15 @@ pub fn parse_sweep_method(s: &str) -> Result<SweepMethod, String> {
     if let Some(base) = t.strip_suffix("-stable") {
         let m = parse_sweep_method(base)?;
         return Ok(SweepMethod { name: format!("{}-stable", m.name), stable: true, ..m });
+    }
+    if let Some((base, scheme)) = t.split_once('@') {
+        let m = parse_sweep_method(base)?;
+        if m.splits < 2 {
+            return Err(format!("sweep method {s:?}: a split scheme needs a split count (lispsm4@{scheme})"));
+        }
+        let o = FitOptions { scheme: Some(scheme.to_string()), splits: m.splits, ..FitOptions::default() };
+        o.settings().map_err(|e| format!("sweep method {s:?}: {e}"))?;
+        return Ok(SweepMethod { name: format!("{}@{scheme}", m.name), scheme: Some(scheme.to_string()), ..m });
     }
     let t = match t.strip_prefix("pssm").and_then(|r| r.split_once('-')) {
         Some((k, m)) => format!("{m}{k}"),
@@ -112,7 +125,8 @@ pub fn parse_sweep_method(s: &str) -> Result<SweepMethod, String> {
     } else {
         k.parse::<usize>().ok().filter(|k| (1..=16).contains(k)).ok_or_else(|| format!("sweep method {s:?}: split count must be 1–16"))?
     };
-    Ok(SweepMethod { name: if splits == 1 { m.to_string() } else { format!("{m}{splits}") }, method, splits, sdsm: false, stable: false })
+    let name = if splits == 1 { m.to_string() } else { format!("{m}{splits}") };
+    Ok(SweepMethod { name, method, splits, sdsm: false, stable: false, scheme: None })
 }
 
 impl SweepMethod {
@@ -126,6 +140,7 @@ impl SweepMethod {
             resolution: res,
             sdsm: self.sdsm,
             stable: self.stable,
+            scheme: self.scheme.clone(),
             ..FitOptions::default()
         }
     }
@@ -689,6 +704,14 @@ mod tests {
         assert!(parse_sweep_method("cascades").unwrap_err().contains("unknown sweep method"));
         assert!(parse_sweep_method("tsm99").unwrap_err().contains("1–16"));
         assert!(parse_sweep_method("4").is_err());
+        let o = parse_sweep_method("auto4@optimal").unwrap();
+        assert_eq!((o.name.as_str(), o.method, o.splits, o.scheme.as_deref()), ("auto4@optimal", Method::Auto, 4, Some("optimal")));
+        assert_eq!(o.options(1024).settings().unwrap().splits.scheme, shadowfocus_focus::SplitScheme::Optimal);
+        let g = parse_sweep_method("lispsm4@geometric:10-stable").unwrap();
+        assert_eq!((g.scheme.as_deref(), g.stable), (Some("geometric:10"), true));
+        assert!(parse_sweep_method("lispsm@optimal").unwrap_err().contains("needs a split count"));
+        assert!(parse_sweep_method("lispsm4@sideways").unwrap_err().contains("unknown split scheme"));
+        assert!(parse_sweep_method("lispsm4@geometric:-1").unwrap_err().contains("splits.first"));
     }
 
     fn row(method: &str, adequate: f64, ratio: f64) -> SweepRow {

@@ -95,7 +95,8 @@ fn fit_held(view: &PreparedView, light: &Light, scene: &Aabb, out: &mut FocusRes
         placement::place(&mut planes, view.splits, |planes| {
             out.clear();
             fit_splits(out, view, planes, light, &scene)?;
-            Ok(receiver_aliasing(out.maps(), out.split_depths(), &view.camera, &view.basis, (scene.min, scene.max)).map(|a| a.map(|a| a.max)))
+            Ok(receiver_aliasing(out.maps(), out.split_depths(), &view.camera, &view.basis, (scene.min, scene.max))
+                .map(|a| a.map(|a| a.max)))
         })?;
     } else {
         fit_splits(out, view, &view.depths, light, &scene)?;

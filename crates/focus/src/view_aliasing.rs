@@ -104,7 +104,13 @@ pub fn predict_aliasing(map: &ShadowMap, camera: &Camera, scene: &Aabb) -> Optio
 /// Each split's predicted aliasing ([`predict_aliasing`]) of the maps
 /// `maps` fitted for the planes `depths`, `None` for a split no sample
 /// lands in.
-pub(crate) fn receiver_aliasing(maps: &[ShadowMap], depths: &[f64], camera: &Camera, basis: &CameraBasis, scene: (DVec3, DVec3)) -> [Option<ViewAliasing>; MAX_SPLITS] {
+pub(crate) fn receiver_aliasing(
+    maps: &[ShadowMap],
+    depths: &[f64],
+    camera: &Camera,
+    basis: &CameraBasis,
+    scene: (DVec3, DVec3),
+) -> [Option<ViewAliasing>; MAX_SPLITS] {
     let mut out = [None; MAX_SPLITS];
     let camera_clip = post_perspective(camera, basis, 0.0);
     each_receiver(camera, basis, scene, depths, |split, p, n, z| {
@@ -117,7 +123,13 @@ pub(crate) fn receiver_aliasing(maps: &[ShadowMap], depths: &[f64], camera: &Cam
 /// Calls `f(split, p, n, z)` for each receiver sample (point `p`, unit
 /// normal `n`, view depth `z`) in the depth range `depths[0]..=depths[m]`,
 /// `split` the index of the range `[depths[i], depths[i + 1]]` holding `z`.
-fn each_receiver(camera: &Camera, basis: &CameraBasis, (lo, hi): (DVec3, DVec3), depths: &[f64], mut f: impl FnMut(usize, DVec3, DVec3, f64)) {
+fn each_receiver(
+    camera: &Camera,
+    basis: &CameraBasis,
+    (lo, hi): (DVec3, DVec3),
+    depths: &[f64],
+    mut f: impl FnMut(usize, DVec3, DVec3, f64),
+) {
     let Some(m) = depths.len().checked_sub(1).filter(|&m| m > 0) else { return };
     let ty = (0.5 * camera.fovy).tan();
     let tx = ty * camera.aspect;

@@ -100,8 +100,14 @@ fn map_answers(i: u32, p: vec3<f32>) -> bool {
     return map_contains(i, p) && face_holds(i, p);
 }
 
+// NOTE: the reference is clamped to the depth range. A receiver-plane reference (`plane_taps`)
+// is the receiver's plane extended to a neighbouring texel centre, and where the receiver lies at
+// the map's far face that plane passes beyond it: there the texel holds the cleared value (nothing
+// drawn up to the far face), which the unclamped reference would fail against — a false shadow
+// along the far edge of every map whose farthest point from the light is a receiver (a sun behind
+// the viewer, at each split's far end).
 fn compare_tap(i: u32, uv: vec2<f32>, r: f32) -> f32 {
-    return textureSampleCompareLevel(shadow_tex, cmp, uv, i, r);
+    return textureSampleCompareLevel(shadow_tex, cmp, uv, i, clamp(r, 0.0, 1.0));
 }
 
 // A bound on the rounding of a receiver's projective depth: z = c.z / c.w is evaluated in f32
