@@ -333,10 +333,10 @@ fn optimal_splits_render_right_and_alias_no_more_than_practical() {
     // Every built-in scene, four LiSPSM splits at half resolution each:
     // planes placed per light for even predicted aliasing against the
     // default practical planes. Shadows stay right, every visible pixel is
-    // covered, the measured maximum is never more than 10 % above the
+    // covered, the measured maximum is never more than 15 % above the
     // practical scheme's (the prediction's receivers are the scene box's
     // faces: a terrain above its box's floor is seen nearer than predicted),
-    // and it is lower in most scenes.
+    // and it is lower in all but one scene.
     let mut lower = Vec::new();
     let names = shadowfocus_cli::render::BUILTIN_SCENES;
     for name in names {
@@ -348,12 +348,12 @@ fn optimal_splits_render_right_and_alias_no_more_than_practical() {
         assert!(b.coverage.complete, "{name}: a visible pixel outside every map: {:?}", b.coverage);
         let m = b.mismatch.unwrap();
         assert!(m.rate_adequate <= ADEQUATE_LIMIT, "{name}: {m:?}");
-        assert!(b.aliasing.max <= 1.1 * a.aliasing.max, "{name}: {:?} → {:?}", a.aliasing, b.aliasing);
+        assert!(b.aliasing.max <= 1.15 * a.aliasing.max, "{name}: {:?} → {:?}", a.aliasing, b.aliasing);
         if b.aliasing.max < a.aliasing.max {
             lower.push(name);
         }
     }
-    assert!(lower.len() + 2 >= names.len(), "lower maximum only in {lower:?}");
+    assert!(lower.len() + 1 >= names.len(), "lower maximum only in {lower:?}");
 }
 
 #[test]

@@ -19,12 +19,20 @@
 //! round's change of a split is limited to a factor `MAX_STEP` too, and the
 //! planes of the round with the least predicted worst split are kept:
 //! never worse, by the prediction, than the start.
+//!
+//! The rounds start from the better of two placements: the practical
+//! planes, and the logarithmic planes over the receivers' depth range (the
+//! nearest receiver sample to far, [`log_from`]): where the camera sees no
+//! receiver for the first few metres (a viewer above a ground), the
+//! logarithmic scheme from `near` spends its first splits on air, and the
+//! update, which moves planes by at most `MAX_STEP` per round, would take
+//! several rounds to leave it.
 
 use crate::error::FocusError;
 use crate::MAX_SPLITS;
 
 /// Rounds of refitting after the start.
-pub(crate) const PLACEMENT_ROUNDS: usize = 4;
+pub(crate) const PLACEMENT_ROUNDS: usize = 3;
 
 /// Most a split's log-depth length changes by in one round (either way).
 const MAX_STEP: f64 = 4.0;
@@ -40,26 +48,40 @@ pub(crate) type Planes = [f64; MAX_SPLITS + 1];
 /// predicted (no map, or no receiver in the split).
 pub(crate) type SplitAliasing = [Option<f64>; MAX_SPLITS];
 
-/// Moves the `m` splits' inner planes of `planes` (outer planes fixed)
-/// toward equal predicted aliasing. `fit` fits every split to the planes it
-/// is given and predicts each split's maximum; when this returns, the last
-/// call of `fit` was with the planes left in `planes`.
+/// Moves the `m` splits' inner planes toward equal predicted aliasing,
+/// from the better (by the prediction) of the planes in `planes` and the
+/// second start `other` (same outer planes), into `planes`. `fit` fits
+/// every split to the planes it is given and predicts each split's maximum;
+/// when this returns, the last call of `fit` was with the planes left in
+/// `planes`.
 pub(crate) fn place(
     planes: &mut Planes,
+    other: Option<&Planes>,
     m: usize,
     mut fit: impl FnMut(&Planes) -> Result<SplitAliasing, FocusError>,
 ) -> Result<(), FocusError> {
-    let mut best = (*planes, f64::INFINITY);
-    let mut last_is_best = true;
-    for round in 0..=PLACEMENT_ROUNDS {
-        let a = fit(planes)?;
-        let worst = worst(&a, m);
-        last_is_best = round == 0 || worst < best.1;
-        if last_is_best {
-            best = (*planes, worst);
+    let mut a = fit(planes)?;
+    let mut best = (*planes, worst(&a, m));
+    if let Some(other) = other.filter(|o| *o != planes) {
+        let b = fit(other)?;
+        let w = worst(&b, m);
+        if w < best.1 {
+            (*planes, a, best) = (*other, b, (*other, w));
+        } else {
+            // The last fit must be with the planes kept.
+            a = fit(planes)?;
         }
-        if round == PLACEMENT_ROUNDS || !rebalance(planes, m, &a) {
+    }
+    let mut last_is_best = true;
+    for _ in 0..PLACEMENT_ROUNDS {
+        if !rebalance(planes, m, &a) {
             break;
+        }
+        a = fit(planes)?;
+        let w = worst(&a, m);
+        last_is_best = w < best.1;
+        if last_is_best {
+            best = (*planes, w);
         }
     }
     if !last_is_best {
@@ -67,6 +89,24 @@ pub(crate) fn place(
         fit(planes)?;
     }
     Ok(())
+}
+
+/// The logarithmic planes over the receivers' depth range `[lo, far]`
+/// ([PSSM06] eq. 4 with the camera's `near` replaced by `lo`, the nearest
+/// receiver), the first split reaching down to `near`; `None` where `lo`
+/// is not inside `(near, far)`.
+pub(crate) fn log_from(near: f64, lo: f64, far: f64, m: usize) -> Option<Planes> {
+    if !(lo > near && lo < far) {
+        return None;
+    }
+    let mut p = [0.0; MAX_SPLITS + 1];
+    p[0] = near;
+    for (i, c) in p.iter_mut().enumerate().take(m).skip(1) {
+        // NOTE: lo·(far/lo)^(i/m) as exp(t·ln(far/lo)), as `split_depths` does.
+        *c = lo * (i as f64 / m as f64 * (far / lo).ln()).exp();
+    }
+    p[m] = far;
+    Some(p)
 }
 
 /// The worst split's prediction (0 where none predicts anything).
@@ -139,7 +179,7 @@ mod tests {
             }
             a
         };
-        place(&mut planes, 4, |p| {
+        place(&mut planes, None, 4, |p| {
             rounds += 1;
             Ok(model(p))
         })
@@ -163,7 +203,7 @@ mod tests {
         let start = planes;
         let mut last = planes;
         // Whatever the planes, moving them makes things worse.
-        place(&mut planes, 2, |p| {
+        place(&mut planes, None, 2, |p| {
             last = *p;
             let moved = (p[1] - 10.0).abs();
             Ok([Some(1.0 + moved), Some(3.0 + moved), None, None, None, None, None, None])
@@ -173,6 +213,28 @@ mod tests {
         assert_eq!(last, start);
     }
 
+    /// The better start is kept, and the last fit is with it.
+    #[test]
+    fn the_better_start_is_taken() {
+        let mut planes = [0.0; MAX_SPLITS + 1];
+        planes[..3].copy_from_slice(&[1.0, 50.0, 100.0]);
+        let other = log_from(1.0, 4.0, 100.0, 2).unwrap();
+        assert_eq!((other[0], other[2]), (1.0, 100.0));
+        assert!((other[1] - 20.0).abs() < 1e-12, "{other:?}");
+        let mut last = planes;
+        // Worse the farther the inner plane is from 20, and balanced there.
+        place(&mut planes, Some(&other), 2, |p| {
+            last = *p;
+            let off = (p[1] / other[1]).ln().abs();
+            Ok([Some(1.0 + off), Some(1.0 + off), None, None, None, None, None, None])
+        })
+        .unwrap();
+        assert_eq!(planes, other);
+        assert_eq!(last, planes);
+        assert_eq!(log_from(1.0, 0.5, 100.0, 2), None);
+        assert_eq!(log_from(1.0, 100.0, 100.0, 2), None);
+    }
+
     /// Splits without a prediction keep their length; a single judged split
     /// has nothing to be balanced against.
     #[test]
@@ -180,7 +242,7 @@ mod tests {
         let mut planes = [0.0; MAX_SPLITS + 1];
         planes[..4].copy_from_slice(&[1.0, 2.0, 20.0, 200.0]);
         let start = planes;
-        place(&mut planes, 3, |_| Ok([None, Some(5.0), None, None, None, None, None, None])).unwrap();
+        place(&mut planes, None, 3, |_| Ok([None, Some(5.0), None, None, None, None, None, None])).unwrap();
         assert_eq!(planes, start);
     }
 }

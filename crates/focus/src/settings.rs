@@ -62,12 +62,13 @@ pub enum SplitScheme {
     },
     /// Planes placed per light so that the splits' predicted maximum
     /// aliasing ([`crate::predict_aliasing`]: at the receivers the scene box
-    /// implies) is as even as the maps allow: starting from `Practical { λ = ½ }`,
-    /// each round refits every split and moves the planes in log depth
-    /// toward equal aliasing, and the best round's planes are kept — never
-    /// worse by the prediction than the start. Costs a few fits per frame
-    /// (see `PLACEMENT_ROUNDS`); the planes move with the view and the
-    /// light, so stable maps refuse it.
+    /// implies) is as even as the maps allow: from the better of
+    /// `Practical { λ = ½ }` and logarithmic planes over the receivers'
+    /// depth range, each round refits every split and moves the planes in
+    /// log depth toward equal aliasing, and the best planes are kept —
+    /// never worse by the prediction than the practical ones. Costs a few
+    /// fits per frame; the planes move with the view and the light, so
+    /// stable maps refuse it.
     Optimal,
 }
 

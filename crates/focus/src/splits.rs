@@ -27,8 +27,8 @@ pub fn split_depths(near: f64, far: f64, s: &SplitSettings, out: &mut [f64; MAX_
             SplitScheme::Uniform => uni,
             SplitScheme::Log => log,
             SplitScheme::Practical { lambda } => practical(lambda),
-            // The fit moves these planes per light (`fit::placement`); this
-            // is where it starts.
+            // The fit moves these planes per light (`placement.rs`); they are
+            // one of its two starts.
             SplitScheme::Optimal => practical(0.5),
             SplitScheme::Geometric { first } => {
                 let first = first.clamp(near, far);

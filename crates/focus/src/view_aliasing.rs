@@ -120,6 +120,14 @@ pub(crate) fn receiver_aliasing(
     out
 }
 
+/// The view depth of the nearest receiver sample (see [`predict_aliasing`])
+/// in the camera's depth range; `None` without any.
+pub(crate) fn nearest_receiver(camera: &Camera, basis: &CameraBasis, scene: (DVec3, DVec3)) -> Option<f64> {
+    let mut lo: Option<f64> = None;
+    each_receiver(camera, basis, scene, &[camera.near, camera.far], |_, _, _, z| lo = Some(lo.map_or(z, |l| l.min(z))));
+    lo
+}
+
 /// Calls `f(split, p, n, z)` for each receiver sample (point `p`, unit
 /// normal `n`, view depth `z`) in the depth range `depths[0]..=depths[m]`,
 /// `split` the index of the range `[depths[i], depths[i + 1]]` holding `z`.

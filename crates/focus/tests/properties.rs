@@ -482,6 +482,28 @@ proptest! {
         }
     }
 
+    /// Optimal placement keeps the outer planes and never predicts worse
+    /// than the practical planes it starts from: the largest
+    /// `predict_aliasing` over its maps is at most the practical fit's. The
+    /// maps themselves are checked with every other scheme's by
+    /// `conservative_and_covering` (the generator mixes it in).
+    #[test]
+    fn optimal_planes_predict_no_worse_than_practical((cam, scene, light) in frame_strategy(), s in settings_strategy(), count in 2..=6usize) {
+        let s = FocusSettings { stable: false, splits: SplitSettings { count, scheme: SplitScheme::Practical { lambda: 0.5 }, delta_bias: 0.0 }, ..s };
+        let optimal = FocusSettings { splits: SplitSettings { scheme: SplitScheme::Optimal, ..s.splits }, ..s };
+        let (mut a, mut b) = (FocusResult::new(), FocusResult::new());
+        let (ra, rb) = (fit(&cam, &light, &scene, &s, &mut a), fit(&cam, &light, &scene, &optimal, &mut b));
+        prop_assert_eq!(ra.is_ok(), rb.is_ok(), "{:?} vs {:?}", ra, rb);
+        if ra.is_err() {
+            return Ok(());
+        }
+        let (da, db) = (a.split_depths(), b.split_depths());
+        prop_assert_eq!((da.len(), da[0], da[count]), (db.len(), db[0], db[count]));
+        prop_assert!(db.windows(2).all(|w| w[0] <= w[1]), "{:?}", db);
+        let worst = |r: &FocusResult| r.maps().iter().filter_map(|m| predict_aliasing(m, &cam, &scene)).fold(0.0f64, |w, p| w.max(p.max));
+        prop_assert!(worst(&b) <= worst(&a), "optimal {} > practical {}: {:?} vs {:?}", worst(&b), worst(&a), db, da);
+    }
+
     /// Auto's every map is, bit for bit, the map one of the four methods
     /// fits for the same body (with `stable`, the stable uniform one), and
     /// says which.
