@@ -24,9 +24,10 @@
 //! With a [`crate::FitState`], each step is held while it still holds the
 //! body and stays near this frame's choice ([`WarpHold`]): the direction
 //! within [`DIRECTION_HOLD`] sixteenths of the view's, `n` within
-//! `[2^(−1/2), 2]` of the method's, the centre between `n/2` and `2n` before
-//! the body and within `n/2` of the method's centre line across it, each
-//! extent at most [`EXTENT_HOLD`] steps looser than the tightest. Without a
+//! `[1/2, 4]` of the method's ([`STRENGTH_HOLD`]), the centre between `n/2`
+//! and `2n` before the body and within `2n` of the method's centre line
+//! across it ([`APEX_HOLD`]), each extent at most [`EXTENT_HOLD`] steps
+//! looser than the tightest. Without a
 //! state every step is this frame's nearest, and the map changes where a
 //! step does.
 //!
@@ -57,8 +58,15 @@ const DIRECTION_HOLD: f64 = 2.0;
 /// Strength and extent steps per octave.
 const STEPS_PER_OCTAVE: f64 = 4.0;
 /// A held extent is kept while at most this many steps looser than the
-/// tightest.
-const EXTENT_HOLD: f64 = 2.0;
+/// tightest (1.5 octaves: a body that shrinks in the warped image as the eye
+/// moves keeps its grid, at up to 2.8× the tightest texels across it).
+const EXTENT_HOLD: f64 = 6.0;
+/// A held apex is kept while at most this many `n` across the method's
+/// centre line, and at most this many `n` before the body.
+const APEX_HOLD: f64 = 2.0;
+/// A held strength is kept while `n` is within `[2^(−S/4), 2^(2S/4)]` of
+/// the method's, `S` this many steps.
+const STRENGTH_HOLD: f64 = 4.0;
 /// The warp guard's hysteresis: a new warp's predicted aliasing must be no
 /// worse than the stable uniform map's, a warp held from the last frame is
 /// kept while at most this factor of it (the prediction moves by ±20 % from
@@ -202,13 +210,13 @@ fn direction_step(dir: DVec2, len: f64, hold: &WarpHold) -> Option<i16> {
 }
 
 /// The strength step for the method's warp distance `n`: the held one
-/// while `2^(k/4)` lies in `[n·2^(−1/2), 2n]`, else `n` rounded up to a
-/// quarter octave; `None` where that is out of range.
+/// while `2^(k/4)` lies in `[n/2, 4n]` ([`STRENGTH_HOLD`]), else `n`
+/// rounded up to a quarter octave; `None` where that is out of range.
 fn strength_step(n: f64, held: Option<&WarpHold>) -> Option<i16> {
     let at = STEPS_PER_OCTAVE * n.log2();
     if let Some(h) = held {
         let k = f64::from(h.strength);
-        if k >= at - 2.0 && k <= at + 4.0 {
+        if k >= at - STRENGTH_HOLD && k <= at + 2.0 * STRENGTH_HOLD {
             return Some(h.strength);
         }
     }
@@ -217,15 +225,15 @@ fn strength_step(n: f64, held: Option<&WarpHold>) -> Option<i16> {
 }
 
 /// The apex on the grid `g = n/4`: the held one while it lies between
-/// `n/2` and `2n` before the body's near end `eta0` and within `n/2` of the
-/// centre line `xi_c`; else `ξ_c` rounded and `η0 − n` rounded away from the
+/// `n/2` and `2n` before the body's near end `eta0` and within `2n` of the
+/// centre line `xi_c` ([`APEX_HOLD`]); else `ξ_c` rounded and `η0 − n` rounded away from the
 /// body. `None` where an index would exceed [`MAX_INDEX`].
 fn apex_steps(n: f64, xi_c: f64, eta0: f64, held: Option<&WarpHold>) -> Option<[i64; 2]> {
     let g = n / APEX_GRID;
     if let Some(h) = held {
         let (xa, ea) = (h.apex[0] as f64 * g, h.apex[1] as f64 * g);
         let ahead = eta0 - ea;
-        if (xa - xi_c).abs() <= 2.0 * n && ahead >= 0.5 * n && ahead <= 2.0 * n {
+        if (xa - xi_c).abs() <= APEX_HOLD * n && ahead >= 0.5 * n && ahead <= APEX_HOLD * n {
             return Some(h.apex);
         }
     }
