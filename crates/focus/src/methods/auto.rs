@@ -15,7 +15,7 @@
 //! and map resolutions), so comparing the candidates needs no absolute
 //! scale.
 
-use super::{fit_body, light_point, Fitted, SplitView};
+use super::{fit_body_shared, light_point, Fitted, SplitView};
 use crate::predict::Samples;
 use crate::settings::{FocusSettings, Method};
 use crate::state::Held;
@@ -29,10 +29,14 @@ pub(super) fn auto(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted>
     let lp = light_point(light);
     let mut samples = Samples::new(sv, body);
     let mut best: Option<(Fitted, f64)> = None;
+    // LiSPSM and TSM along the same view vector share their frame and
+    // their guard's reference and samples (the maps are those each fits
+    // alone, bit for bit).
+    let mut share = None;
     for method in CANDIDATES {
         let settings = FocusSettings { method, ..*sv.settings };
         let view = SplitView { camera: sv.camera, basis: sv.basis, settings: &settings };
-        let Some(f) = fit_body(&view, light, body, &Held::NONE) else { continue };
+        let Some(f) = fit_body_shared(&view, light, body, &Held::NONE, &mut share) else { continue };
         let predicted = if method == Method::Uniform { samples.judge(&f.m, lp) } else { samples.predict(&f.m) };
         let Some(p) = predicted else {
             // Nothing to judge by: the uniform map, or the first that fits.

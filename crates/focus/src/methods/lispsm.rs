@@ -3,15 +3,15 @@
 //! practical formulation gives it [SCH05]; the warp direction is the view
 //! direction or the middle vector.
 
-use super::warp::{warped, Frame};
+use super::warp::{warped, Frame, WarpShare};
 use super::{image, image_scale, Fitted, SplitView};
 use crate::settings::WarpDirection;
 use crate::state::WarpHold;
 use glam::{DMat4, DVec3};
 use shadowfocus_geom::{Body, Camera, Dimension, Light};
 
-/// The LiSPSM map of `body`.
-pub(super) fn lispsm(sv: &SplitView, light: &Light, body: &Body, hold: &WarpHold) -> Option<Fitted> {
+/// The LiSPSM map of `body` (`share`: see [`WarpShare`]).
+pub(super) fn lispsm(sv: &SplitView, light: &Light, body: &Body, hold: &WarpHold, share: &mut Option<WarpShare>) -> Option<Fitted> {
     let s = sv.settings;
     let cam = sv.camera;
     let f = sv.basis.forward;
@@ -20,7 +20,7 @@ pub(super) fn lispsm(sv: &SplitView, light: &Light, body: &Body, hold: &WarpHold
         WarpDirection::ViewProjected => f,
     };
     let verts = body.vertices();
-    warped(sv, light, body, v, hold, |fr: &Frame| {
+    warped(sv, light, body, v, hold, share, |fr: &Frame| {
         let Frame { m, lp, p_ref, eta: (eta0, eta1), .. } = *fr;
         let zn = cam.near;
         let kappa = image_scale(&m, p_ref);

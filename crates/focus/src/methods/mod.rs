@@ -101,6 +101,12 @@ fn spot_axis(light: &Light) -> Option<DVec3> {
 /// is what the map's stable construction chose in the previous frame
 /// ([`Held::NONE`]: nothing, see [`crate::FitState`]).
 pub(crate) fn fit_body(sv: &SplitView, light: &Light, body: &Body, hold: &Held) -> Option<Fitted> {
+    fit_body_shared(sv, light, body, hold, &mut None)
+}
+
+/// [`fit_body`], LiSPSM and TSM reusing what `share` holds for the same
+/// body and view vector (see [`warp::WarpShare`]).
+fn fit_body_shared(sv: &SplitView, light: &Light, body: &Body, hold: &Held, share: &mut Option<warp::WarpShare>) -> Option<Fitted> {
     let s = sv.settings;
     let directional = matches!(light, Light::Directional { .. });
     let spot = matches!(light, Light::Spot { .. });
@@ -113,16 +119,16 @@ pub(crate) fn fit_body(sv: &SplitView, light: &Light, body: &Body, hold: &Held) 
             true => Fitted { method: s.method, warp_vanished: true, ..f },
             false => f,
         }),
-        Method::Uniform => uniform::uniform(sv, light, body),
-        Method::Psm => match psm::psm(sv, light, body) {
+        Method::Uniform => warp::WarpShare::along(share, sv, light, body, sv.basis.forward)?.reference(sv, body.vertices()),
+        Method::Psm => match psm::psm(sv, light, body, share) {
             Some(f) => Some(f),
             None => uniform::uniform(sv, light, body).map(|mut f| {
                 f.psm_fell_back = true;
                 f
             }),
         },
-        Method::Lispsm => lispsm::lispsm(sv, light, body, &hold.warp),
-        Method::Tsm => tsm::tsm(sv, light, body, &hold.warp),
+        Method::Lispsm => lispsm::lispsm(sv, light, body, &hold.warp, share),
+        Method::Tsm => tsm::tsm(sv, light, body, &hold.warp, share),
         Method::Auto => auto::auto(sv, light, body),
     }?;
     // Every method but PSM has stable maps (a point light's are its cube

@@ -3,11 +3,10 @@
 //! longer shifts where the prediction says it would alias more than the
 //! uniform map.
 
-use super::uniform::uniform;
+use super::warp::WarpShare;
 use super::{light_point, orient, Fitted, SplitView};
 #[cfg(doc)]
 use crate::predict::Predicted;
-use crate::predict::Samples;
 use crate::project::{central_projection, crop, crop_estimate, h, post_perspective, DepthKind};
 use crate::settings::Method;
 use glam::{DMat4, DVec3};
@@ -40,7 +39,7 @@ use shadowfocus_geom::{Body, Light, MAX_VERTICES};
 /// the first that the prediction accepts is kept, else the uniform map,
 /// marked as PSM's fallback (`psm_fell_back`). `None` only where no PSM
 /// projection exists (the caller then fits the uniform map).
-pub(super) fn psm(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted> {
+pub(super) fn psm(sv: &SplitView, light: &Light, body: &Body, share: &mut Option<WarpShare>) -> Option<Fitted> {
     let cam = sv.camera;
     let b = &sv.basis;
     let verts = body.vertices();
@@ -64,10 +63,12 @@ pub(super) fn psm(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted> 
     if !sv.settings.warp_guard {
         return plain(psm_map(sv, light, body, shift)?, shift);
     }
-    let reference = uniform(sv, light, body)?;
-    let mut samples = Samples::new(sv, body);
-    let lp = light_point(light);
-    let Some(target) = samples.judge(&reference.m, lp) else { return plain(psm_map(sv, light, body, shift)?, shift) };
+    // The uniform map and the judged samples: `uniform`'s and the warps'
+    // own (see `WarpShare`).
+    let share = WarpShare::along(share, sv, light, body, sv.basis.forward)?;
+    let reference = share.reference(sv, verts)?;
+    let (samples, target) = share.guard(sv, light, body, &reference.m);
+    let Some(target) = *target else { return plain(psm_map(sv, light, body, shift)?, shift) };
     let spread = zmax - zmin;
     for k in 0..PSM_STEPS {
         let s = shift + if k == 0 { 0.0 } else { spread * 4f64.powi(k - 2) };

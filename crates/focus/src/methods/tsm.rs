@@ -1,17 +1,17 @@
 //! TSM [TSM04]: the trapezoid around the body's image whose top line is
 //! its near end, with the focus point mapped to the 80 % line.
 
-use super::warp::{warped, Frame};
+use super::warp::{warped, Frame, WarpShare};
 use super::{image, Fitted, SplitView};
 use crate::state::WarpHold;
 use shadowfocus_geom::{Body, Light};
 
-/// The TSM map of `body`.
-pub(super) fn tsm(sv: &SplitView, light: &Light, body: &Body, hold: &WarpHold) -> Option<Fitted> {
+/// The TSM map of `body` (`share`: see [`WarpShare`]).
+pub(super) fn tsm(sv: &SplitView, light: &Light, body: &Body, hold: &WarpHold, share: &mut Option<WarpShare>) -> Option<Fitted> {
     let s = sv.settings;
     let cam = sv.camera;
     let f = sv.basis.forward;
-    warped(sv, light, body, f, hold, |fr: &Frame| {
+    warped(sv, light, body, f, hold, share, |fr: &Frame| {
         let Frame { m, p_near, xi: (xi0, xi1), eta: (eta0, eta1), .. } = *fr;
         let zn = cam.near;
         // Top line at η0, base at η1 (λ apart); the focus point at depth

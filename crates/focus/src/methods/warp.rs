@@ -5,9 +5,7 @@
 use super::stable_warp::stable_warped;
 use super::uniform::uniform_from;
 use super::{image, light_point, light_space, rotate_image, Fitted, SplitView};
-#[cfg(doc)]
-use crate::predict::Predicted;
-use crate::predict::Samples;
+use crate::predict::{Predicted, Samples};
 use crate::project::{apply_warp, crop, crop_estimate, h, Warp};
 use crate::settings::MapOrientation;
 use crate::state::WarpHold;
@@ -16,6 +14,7 @@ use shadowfocus_geom::{Body, Light};
 
 /// The light's image along the warp's view direction `v`, as both warps
 /// read it.
+#[derive(Clone, Copy)]
 pub(super) struct Frame {
     /// The light's image, rows `x`, `y` turned so that `y` follows `v`.
     pub m: DMat4,
@@ -34,49 +33,112 @@ pub(super) struct Frame {
 /// its centre line `ξ_c` in the frame, [`choose_warp`] the map. Where `v`
 /// has no image direction (all but parallel to the light) the map is the
 /// uniform one, marked as a vanished warp. Stable maps of a directional
-/// light are [`stable_warped`]'s, holding the steps of `hold`.
+/// light are [`stable_warped`]'s, holding the steps of `hold`. `share`
+/// keeps what a second warp along the same `v` for the same body reuses
+/// (see [`WarpShare`]); pass `&mut None` for one warp.
 pub(super) fn warped(
     sv: &SplitView,
     light: &Light,
     body: &Body,
     v: DVec3,
     hold: &WarpHold,
+    share: &mut Option<WarpShare>,
     warp_of: impl FnOnce(&Frame) -> (f64, f64),
 ) -> Option<Fitted> {
     let s = sv.settings;
     if s.stable_warp() && matches!(light, Light::Directional { .. }) {
         return stable_warped(sv, light, body, v, hold, warp_of);
     }
-    let cam = sv.camera;
+    let share = WarpShare::along(share, sv, light, body, v)?;
     let verts = body.vertices();
-    let c = light_space(sv, light, verts, v)?;
-    let p_near = cam.eye + sv.basis.forward * cam.near;
-    // A reference point the light map sees: the near-plane centre, else the
-    // body's centre (a point light beside the eye can have w ≤ 0 there).
-    let p_ref = if image(&c.m, p_near).2 > 0.0 { p_near } else { c.centre };
-    // The warp runs along the image of the view direction [LISPSM04]: image
-    // `y` is turned onto it. Where the view direction is (nearly) parallel
-    // to the light it has no image direction and the warp no effect.
-    let aligned = match s.orientation {
-        MapOrientation::LeastArea => align_to(&c.m, p_ref, v),
-        MapOrientation::ViewAligned => Some(c.m),
+    let Some(frame) = share.frame(sv, light, verts) else {
+        return share.reference(sv, verts).map(|u| Fitted { method: s.method, warp_vanished: true, ..u });
     };
-    let Some(m) = aligned else {
-        return uniform_from(&c.m, verts, sv).map(|u| Fitted { method: s.method, warp_vanished: true, ..u });
-    };
-    let (mut eta0, mut eta1) = (f64::INFINITY, f64::NEG_INFINITY);
-    let (mut xi0, mut xi1) = (f64::INFINITY, f64::NEG_INFINITY);
-    for p in verts {
-        let (xi, eta, _) = image(&m, *p);
-        eta0 = eta0.min(eta);
-        eta1 = eta1.max(eta);
-        xi0 = xi0.min(xi);
-        xi1 = xi1.max(xi);
-    }
-    let frame = Frame { m, lp: light_point(light), p_near, p_ref, xi: (xi0, xi1), eta: (eta0, eta1) };
     let (epsilon, xi_c) = warp_of(&frame);
     let epsilon = if epsilon.is_finite() && epsilon > 0.0 { epsilon } else { 0.0 };
-    choose_warp(sv, light, body, &c.m, &frame.m, Warp { epsilon, xi_c, eta0 })
+    choose_warp(sv, light, body, share, &frame.m, Warp { epsilon, xi_c, eta0: frame.eta.0 })
+}
+
+/// What every map along one view vector `v` of one body shares, computed
+/// once for [`crate::Method::Auto`]'s candidates: the light's central
+/// projection, its frame along `v`, the uniform map of that projection (the
+/// uniform candidate itself, for `v` the view direction) and the warp
+/// guard's receiver samples judged against it. Each is computed on first
+/// use exactly as a single fit computes it, so the maps are bit for bit
+/// those each method fits alone.
+pub(super) struct WarpShare {
+    pub(super) v: DVec3,
+    central: DMat4,
+    /// The body's centre, for a point the light map sees.
+    centre: DVec3,
+    /// `Some(None)` where `v` has no image direction.
+    frame: Option<Option<Frame>>,
+    reference: Option<Option<Fitted>>,
+    guard: Option<(Samples, Option<Predicted>)>,
+}
+
+impl WarpShare {
+    /// The share for `v` in `slot`, made anew where it holds another
+    /// vector's; `None` where the light has no central projection.
+    pub(super) fn along<'a>(
+        slot: &'a mut Option<WarpShare>,
+        sv: &SplitView,
+        light: &Light,
+        body: &Body,
+        v: DVec3,
+    ) -> Option<&'a mut WarpShare> {
+        if slot.as_ref().is_none_or(|w| w.v != v) {
+            let c = light_space(sv, light, body.vertices(), v)?;
+            *slot = Some(WarpShare { v, central: c.m, centre: c.centre, frame: None, reference: None, guard: None });
+        }
+        slot.as_mut()
+    }
+
+    /// The light's image turned along `v`, with the body's extent in it.
+    fn frame(&mut self, sv: &SplitView, light: &Light, verts: &[DVec3]) -> Option<Frame> {
+        let (central, centre, v) = (self.central, self.centre, self.v);
+        *self.frame.get_or_insert_with(|| {
+            let cam = sv.camera;
+            let p_near = cam.eye + sv.basis.forward * cam.near;
+            // A reference point the light map sees: the near-plane centre, else the
+            // body's centre (a point light beside the eye can have w ≤ 0 there).
+            let p_ref = if image(&central, p_near).2 > 0.0 { p_near } else { centre };
+            // The warp runs along the image of the view direction [LISPSM04]: image
+            // `y` is turned onto it. Where the view direction is (nearly) parallel
+            // to the light it has no image direction and the warp no effect.
+            let aligned = match sv.settings.orientation {
+                MapOrientation::LeastArea => align_to(&central, p_ref, v),
+                MapOrientation::ViewAligned => Some(central),
+            };
+            aligned.map(|m| {
+                let (mut eta0, mut eta1) = (f64::INFINITY, f64::NEG_INFINITY);
+                let (mut xi0, mut xi1) = (f64::INFINITY, f64::NEG_INFINITY);
+                for p in verts {
+                    let (xi, eta, _) = image(&m, *p);
+                    eta0 = eta0.min(eta);
+                    eta1 = eta1.max(eta);
+                    xi0 = xi0.min(xi);
+                    xi1 = xi1.max(xi);
+                }
+                Frame { m, lp: light_point(light), p_near, p_ref, xi: (xi0, xi1), eta: (eta0, eta1) }
+            })
+        })
+    }
+
+    /// The uniform map of the central projection (the guard's reference).
+    pub(super) fn reference(&mut self, sv: &SplitView, verts: &[DVec3]) -> Option<Fitted> {
+        *self.reference.get_or_insert_with(|| uniform_from(&self.central, verts, sv))
+    }
+
+    /// The receiver samples of the body, judged against `reference`, and the
+    /// reference's prediction.
+    pub(super) fn guard(&mut self, sv: &SplitView, light: &Light, body: &Body, reference: &DMat4) -> &(Samples, Option<Predicted>) {
+        self.guard.get_or_insert_with(|| {
+            let mut samples = Samples::new(sv, body);
+            let target = samples.judge(reference, light_point(light));
+            (samples, target)
+        })
+    }
 }
 
 /// Warp strengths tried before the uniform map: each halves ε.
@@ -90,10 +152,10 @@ const WARP_STEPS: i32 = 5;
 /// construction; the weakening steps (ε, ε/2, …, ε/2^(WARP_STEPS−1), then
 /// none) keep the choice close to continuous where the prediction crosses
 /// over.
-fn choose_warp(sv: &SplitView, light: &Light, body: &Body, central: &DMat4, m: &DMat4, w: Warp) -> Option<Fitted> {
+fn choose_warp(sv: &SplitView, light: &Light, body: &Body, share: &mut WarpShare, m: &DMat4, w: Warp) -> Option<Fitted> {
     let s = sv.settings;
     let verts = body.vertices();
-    let reference = uniform_from(central, verts, sv)?;
+    let reference = share.reference(sv, verts)?;
     let mut best = Fitted { method: s.method, warp_vanished: true, ..reference };
     if w.epsilon == 0.0 && s.orientation == MapOrientation::LeastArea {
         return Some(best);
@@ -110,13 +172,11 @@ fn choose_warp(sv: &SplitView, light: &Light, body: &Body, central: &DMat4, m: &
         out.warp_vanished = w.epsilon == 0.0;
         return Some(out);
     }
-    let lp = light_point(light);
-    let mut samples = Samples::new(sv, body);
-    let target = samples.judge(&reference.m, lp);
+    let (samples, target) = share.guard(sv, light, body, &reference.m);
     for k in 0..WARP_STEPS {
         let epsilon = w.epsilon * 0.5f64.powi(k);
         let warped = apply_warp(m, &Warp { epsilon, ..w });
-        let better = match &target {
+        let better = match target {
             // No sample to judge by (the split sees nothing of the body's
             // box): the warp as designed.
             None => true,
