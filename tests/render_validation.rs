@@ -425,6 +425,30 @@ fn receivers_at_a_maps_far_face_are_not_shadowed_by_nothing() {
 }
 
 #[test]
+fn the_gpu_reduces_the_visible_depth_range_as_the_cpu_does() {
+    // Every built-in scene: the compute pass's least and greatest view depth
+    // of the pixels that see geometry against the same reduction of the
+    // read-back positions in f64, to the f32 rounding of a depth (the
+    // adapter here, llvmpipe through GL 4.5, has compute shaders: a build
+    // that lost the pass fails rather than skips).
+    let mut guard = RENDERER.lock().unwrap_or_else(|e| e.into_inner());
+    let renderer = guard.get_or_insert_with(|| Renderer::from_env().expect("a wgpu adapter (llvmpipe on a fresh machine)"));
+    assert!(renderer.adapter().compute, "{:?}", renderer.adapter());
+    for name in shadowfocus_cli::render::BUILTIN_SCENES {
+        let s = scene(name);
+        let frame = shadowfocus_cli::cli::overrides::Frame::of(&s);
+        let (out, _) = shadowfocus_cli::cli::render::render_frame(renderer, &s, &frame, &FitOptions::default(), SIZE, false, None).unwrap();
+        let gpu = out.visible_depth.unwrap_or_else(|| panic!("{name}: no visible depth from the GPU"));
+        let cpu = shadowfocus_cli::cli::render::cpu_visible_depth(&out).unwrap();
+        let tol = 8.0 * f32::EPSILON as f64 * (out.camera.eye.length() + cpu[1]);
+        for k in 0..2 {
+            assert!((gpu[k] as f64 - cpu[k]).abs() <= tol, "{name}: GPU {gpu:?}, CPU {cpu:?}");
+        }
+        assert!(cpu[0] >= out.camera.near * (1.0 - 1e-6) && cpu[1] <= out.camera.far * (1.0 + 1e-6), "{name}: {cpu:?}");
+    }
+}
+
+#[test]
 fn the_renderer_refuses_what_it_cannot_render_right() {
     // wgpu keeps clip depth in [0, 1]: OpenGL's [−1, 1] maps would lose
     // every caster in front of the map's middle. Refused, with the reason.

@@ -132,10 +132,15 @@ fn request<'a>(
 /// maps [SDSM10]: the hint of `FocusSettings::visible_depth`); `None` when
 /// no pixel does.
 ///
-/// NOTE: the main pass computes a pixel's depth in f32 from f32 positions,
-/// a few ulps of |eye| + depth off the f64 depth of the same position: the
-/// range is widened by 2⁻¹⁶ of that magnitude, far above those ulps.
-fn visible_depth(
+/// The range is reduced on the GPU (a compute pass over the G-buffer), or
+/// on the CPU from the read-back positions where the adapter has no compute
+/// shaders.
+///
+/// NOTE: the main pass computes a pixel's position in f32, and the
+/// reduction its depth in f32: a few ulps of |eye| + depth off the f64
+/// depth of the same point. The range is widened by 2⁻¹⁶ of that
+/// magnitude, far above those ulps.
+pub(crate) fn visible_depth(
     renderer: &mut Renderer,
     scene: &Scene,
     frame: &Frame,
@@ -147,17 +152,33 @@ fn visible_depth(
     let mut req = request(scene, frame, &specs, size, 64, settings);
     (req.settings.ground_truth, req.settings.save_shadow_maps) = (false, false);
     let out = renderer.render(&req).map_err(|e| e.to_string())?;
-    let c = &frame.camera;
+    Ok(reduced_depth(&out, renderer.adapter().compute))
+}
+
+/// The visible depth range of a rendered frame, widened for its f32
+/// rounding (see [`visible_depth`]): the GPU's reduction where the adapter
+/// has compute shaders (`compute`), else the CPU's.
+pub(crate) fn reduced_depth(out: &render::RenderOutput, compute: bool) -> Option<[f64; 2]> {
+    let c = &out.camera;
+    let [lo, hi] = match out.visible_depth {
+        Some([lo, hi]) => [lo as f64, hi as f64],
+        None if compute => return None,
+        None => cpu_visible_depth(out)?,
+    };
+    let slack = (c.eye.length() + hi.abs()) * (1.0 / 65536.0);
+    Some([lo - slack, hi + slack])
+}
+
+/// The visible depth range reduced on the CPU from the read-back positions
+/// (for adapters without compute shaders, and to check the GPU's).
+pub fn cpu_visible_depth(out: &render::RenderOutput) -> Option<[f64; 2]> {
+    let c = &out.camera;
     let forward = c.forward.normalize();
     let (lo, hi) = out.world.iter().filter(|w| w[3] != 0.0).fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), w| {
         let z = (glam::DVec3::new(w[0] as f64, w[1] as f64, w[2] as f64) - c.eye).dot(forward);
         (lo.min(z), hi.max(z))
     });
-    if !(lo <= hi) {
-        return Ok(None);
-    }
-    let slack = (c.eye.length() + hi.abs()) * (1.0 / 65536.0);
-    Ok(Some([lo - slack, hi + slack]))
+    (lo <= hi).then_some([lo, hi])
 }
 
 /// max − min of the clip depth z / w of `points` under `clip_from_world`.
@@ -207,8 +228,24 @@ pub fn render_frame(
     maps: bool,
     state: Option<&mut FitState>,
 ) -> Result<(render::RenderOutput, Value), String> {
+    let sdsm = if opts.sdsm { visible_depth(renderer, scene, frame, &opts.settings()?, size)? } else { None };
+    render_frame_hinted(renderer, scene, frame, opts, size, maps, state, sdsm)
+}
+
+/// [`render_frame`] with the visible depth hint given (`--sdsm`'s, from an
+/// earlier frame) instead of reduced from a pre-pass.
+#[allow(clippy::too_many_arguments)]
+pub fn render_frame_hinted(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    frame: &Frame,
+    opts: &FitOptions,
+    size: (u32, u32),
+    maps: bool,
+    state: Option<&mut FitState>,
+    sdsm: Option<[f64; 2]>,
+) -> Result<(render::RenderOutput, Value), String> {
     let mut settings = opts.settings()?;
-    let sdsm = if opts.sdsm { visible_depth(renderer, scene, frame, &settings, size)? } else { None };
     settings.visible_depth = sdsm;
     // NOTE: the renderer is wgpu: clip depth in [0, 1] (reversed-Z maps
     // render through their greater test), and clamping where the adapter

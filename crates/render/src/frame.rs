@@ -105,6 +105,10 @@ pub struct RenderOutput {
     pub truth: Option<Vec<Visibility>>,
     /// The shadow maps, when `save_shadow_maps` was set.
     pub shadow_maps: Vec<DepthMap>,
+    /// The least and greatest view depth of the pixels that see geometry, reduced on the GPU
+    /// (f32, from the main pass's f32 positions); `None` where the adapter has no compute
+    /// shaders or no pixel sees geometry.
+    pub visible_depth: Option<[f32; 2]>,
     /// The camera and light the frame was rendered with.
     pub camera: CameraSpec,
     pub light: LightSpec,

@@ -60,6 +60,9 @@ pub struct AdapterSummary {
     pub depth_clamp: bool,
     /// Whether the GPU times its passes itself (timestamp queries).
     pub timestamps: bool,
+    /// Whether the adapter runs compute shaders (the visible depth range is then reduced on
+    /// the GPU).
+    pub compute: bool,
 }
 
 /// An open device plus an error sink: wgpu errors become `RenderError`s instead of panics.
@@ -123,6 +126,7 @@ impl Gpu {
         }
         let depth_clamp = adapter.features().contains(wgpu::Features::DEPTH_CLIP_CONTROL);
         let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let compute = adapter.get_downlevel_capabilities().flags.contains(wgpu::DownlevelFlags::COMPUTE_SHADERS);
         let mut features = wgpu::Features::empty();
         features.set(wgpu::Features::DEPTH_CLIP_CONTROL, depth_clamp);
         features.set(wgpu::Features::TIMESTAMP_QUERY, timestamps);
@@ -149,6 +153,7 @@ impl Gpu {
             driver: format!("{} {}", info.driver, info.driver_info).trim().to_string(),
             depth_clamp,
             timestamps,
+            compute,
         };
         Ok(Gpu { device, queue, summary, limits, errors, _instance: instance, _adapter: adapter })
     }

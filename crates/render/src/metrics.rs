@@ -310,6 +310,7 @@ mod tests {
             shadow: vec![1.0; n],
             truth: Some(truth.clone()),
             shadow_maps: Vec::new(),
+            visible_depth: None,
             camera: cam,
             light: LightSpec::Directional { direction: DVec3::Z },
             metrics: RenderMetrics::default(),

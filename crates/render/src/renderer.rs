@@ -11,6 +11,7 @@ use crate::metrics;
 use crate::passes::gbuffer::{DepthLookup, GBufferPass};
 use crate::passes::post::PostPass;
 use crate::passes::readback::read_frame;
+use crate::passes::reduce::DepthReduce;
 use crate::passes::shadow::ShadowPass;
 use crate::passes::{Geometry, ALBEDO_FMT, AUX_FMT, COLOR_FMT, DEPTH_FMT, NORMAL_FMT, VIS_FMT, VIZ_FMT, WORLD_FMT};
 use crate::scene::{Scene, Vertex};
@@ -52,6 +53,8 @@ pub struct Renderer {
     /// Bilinear and nearest comparison samplers: "less-equal" ones, then "greater-equal" ones
     /// for reversed buffers.
     samplers: [[wgpu::Sampler; 2]; 2],
+    /// The visible depth reduction, where the adapter has compute shaders.
+    reduce: Option<DepthReduce>,
 }
 
 fn uniform_entry(binding: u32, dynamic: bool) -> wgpu::BindGroupLayoutEntry {
@@ -296,6 +299,7 @@ impl Renderer {
             return Err(RenderError::Gpu(format!("creating pipelines: {e}")));
         }
         gpu.take_errors()?;
+        let reduce = gpu.summary.compute.then(|| DepthReduce::new(device));
         Ok(Renderer {
             gpu,
             shadow_module,
@@ -309,6 +313,7 @@ impl Renderer {
             composite_bgl,
             composite_pipeline,
             samplers,
+            reduce,
         })
     }
 
@@ -457,7 +462,15 @@ impl Renderer {
         }
 
         let t2 = Instant::now();
-        let mut out = read_frame(&self.gpu, req, &main.targets, &shadow, post.blur.is_some())?;
+        let reduced = self.reduce.as_ref().map(|r| {
+            let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("reduce") });
+            let c = &req.camera;
+            let f = c.forward.normalize();
+            let reduced = r.encode(device, &mut enc, &main.targets.world, (s.width, s.height), c.eye.as_vec3().into(), f.as_vec3().into());
+            self.gpu.queue.submit([enc.finish()]);
+            reduced
+        });
+        let mut out = read_frame(&self.gpu, req, &main.targets, &shadow, post.blur.is_some(), reduced.as_ref())?;
         let readback_ms = t2.elapsed().as_secs_f64() * 1e3;
 
         let t3 = Instant::now();

@@ -15,10 +15,11 @@ pub use path::{parse_path, path_camera, CameraPath};
 
 use super::fit::FitOptions;
 use super::overrides::{parse_light, Frame, LightOverride};
-use super::render::{frame_inputs, render_frame};
+use super::render::{frame_inputs, reduced_depth, render_frame_hinted, visible_depth};
 use render::{contact_sheet, Image, Renderer, Scene};
 use serde_json::{json, Value};
-use shadowfocus_focus::{fit_prepared_with_state, FitState, FocusResult, PreparedView};
+use shadowfocus_focus::{fit_prepared_with_state, visible_depth_after_motion, FitState, FocusResult, FocusSettings, PreparedView};
+use shadowfocus_geom::Camera;
 use shadowfocus_render as render;
 use std::path::Path;
 
@@ -60,10 +61,17 @@ pub struct AnimateOptions {
 /// Whether every active map of the frame's fit (from the state the frame
 /// started with) holds its body (f64, in its clip convention): `misses`
 /// counts the frames where one does not.
-fn maps_hold_their_bodies(scene: &Scene, frame: &Frame, aspect: f64, opts: &FitOptions, mut state: FitState) -> Result<bool, String> {
+fn maps_hold_their_bodies(
+    scene: &Scene,
+    frame: &Frame,
+    aspect: f64,
+    opts: &FitOptions,
+    mut state: FitState,
+    sdsm: Option<[f64; 2]>,
+) -> Result<bool, String> {
     let (camera, light, bounds) = frame_inputs(scene, frame, aspect)?;
     let mut result = FocusResult::new();
-    let settings = opts.settings()?;
+    let settings = FocusSettings { visible_depth: sdsm, ..opts.settings()? };
     let view = PreparedView::new(&camera, &settings).map_err(|e| e.to_string())?;
     fit_prepared_with_state(&view, &light, &bounds, &mut state, &mut result).map_err(|e| e.to_string())?;
     Ok(result.maps().iter().filter(|m| m.is_active()).all(|m| {
@@ -82,11 +90,6 @@ pub fn animate(o: &AnimateOptions) -> Result<Value, String> {
     if o.frames < 2 {
         return Err("--frames: at least 2 frames are needed to compare one with the next".into());
     }
-    if o.fit.sdsm {
-        // NOTE: --sdsm fits each frame to its own pre-pass; what it does to
-        // stability is a question for a fit that carries state.
-        return Err("animate does not take --sdsm".into());
-    }
     let scene = render::load_scene(&o.scene).map_err(|e| e.to_string())?;
     let mut renderer = Renderer::from_env().map_err(|e| e.to_string())?;
     std::fs::create_dir_all(&o.out).map_err(|e| e.to_string())?;
@@ -102,17 +105,36 @@ pub fn animate(o: &AnimateOptions) -> Result<Value, String> {
     let mut rows = vec!["frame,aliasing_p95,aliasing_max,mismatch_adequate,probes_seen,maps_hold_h".to_string()];
     let mut strip = Vec::new();
     let mut zoomed = Vec::with_capacity(o.frames);
+    // --sdsm: the first frame from its own pre-pass, every later one from
+    // the range the last frame's main pass reduced, widened by the camera's
+    // motion — one frame of latency, as an engine takes it.
+    let mut last: Option<([f64; 2], Camera)> = None;
+    let mut uncovered = (0u64, 0usize);
     for k in 0..o.frames {
         let frame = Frame { camera: path_camera(&scene, o.path, k, o.frames), light };
         let before = state;
-        let (out, _) = render_frame(&mut renderer, &scene, &frame, &o.fit, o.size, true, Some(&mut state))?;
+        let sdsm = match (o.fit.sdsm, &last) {
+            (false, _) => None,
+            (true, None) => visible_depth(&mut renderer, &scene, &frame, &o.fit.settings()?, o.size)?,
+            (true, Some((range, then))) => {
+                let (now, _, _) = frame_inputs(&scene, &frame, aspect)?;
+                visible_depth_after_motion(*range, then, &now)
+            }
+        };
+        let (out, _) = render_frame_hinted(&mut renderer, &scene, &frame, &o.fit, o.size, true, Some(&mut state), sdsm)?;
+        if o.fit.sdsm {
+            let (now, _, _) = frame_inputs(&scene, &frame, aspect)?;
+            last = reduced_depth(&out, renderer.adapter().compute).map(|r| (r, now));
+            let c = &out.metrics.coverage;
+            uncovered = (uncovered.0 + c.uncovered, uncovered.1 + usize::from(!c.complete));
+        }
         state_changes += usize::from(k > 0 && state != before);
         let screen = screen::Screen::new(&out)?;
         let truth = out.truth.as_ref().ok_or("the render has no ground truth")?;
         let probes = flicker.get_or_insert_with(|| flicker::Flicker::new(&out, truth, PROBE_STRIDE));
         let seen = probes.frame(&out, &screen);
         crawl.frame(&out, &screen);
-        let holds = maps_hold_their_bodies(&scene, &frame, aspect, &o.fit, before)?;
+        let holds = maps_hold_their_bodies(&scene, &frame, aspect, &o.fit, before, sdsm)?;
         misses += usize::from(!holds);
         let m = &out.metrics;
         p95s.push(m.aliasing.p95);
@@ -141,6 +163,9 @@ pub fn animate(o: &AnimateOptions) -> Result<Value, String> {
         "aliasing_p95_mean": finite.iter().sum::<f64>() / finite.len().max(1) as f64,
         "misses": misses,
         "state_changes": state_changes,
+        "sdsm": o.fit.sdsm,
+        "uncovered_pixels": uncovered.0,
+        "uncovered_frames": uncovered.1,
     });
     let refs: Vec<(&Image, &str)> = strip.iter().map(|(i, l)| (i, l.as_str())).collect();
     contact_sheet(&refs, 4).save_png(&o.out.join("strip.png")).map_err(|e| e.to_string())?;

@@ -2,6 +2,7 @@
 //! with 256-byte row alignment, mapped together, and decoded per pixel.
 
 use super::gbuffer::Targets;
+use super::reduce::{decode, Reduced};
 use super::shadow::ShadowPass;
 use crate::error::RenderError;
 use crate::frame::{DepthMap, RenderOutput, RenderRequest};
@@ -18,6 +19,7 @@ pub(crate) fn read_frame(
     t: &Targets,
     shadow: &ShadowPass,
     blurred: bool,
+    reduced: Option<&Reduced>,
 ) -> Result<RenderOutput, RenderError> {
     let device = &gpu.device;
     let (w, h, res) = (req.settings.width, req.settings.height, req.settings.shadow_resolution);
@@ -28,6 +30,7 @@ pub(crate) fn read_frame(
     let i_aux = rb.add(device, &mut enc, &t.aux, 0, w, h, 16);
     let i_vis = blurred.then(|| rb.add(device, &mut enc, &t.vis[1], 0, w, h, 2));
     let i_color = rb.add(device, &mut enc, &t.color, 0, w, h, 4);
+    let i_range = reduced.map(|r| rb.add_buffer(device, &mut enc, &r.range, 8));
     let i_maps: Vec<usize> = match &shadow.viz {
         Some(v) => (0..req.maps.len() as u32).map(|l| rb.add(device, &mut enc, v, l, res, res, 4)).collect(),
         None => Vec::new(),
@@ -51,6 +54,7 @@ pub(crate) fn read_frame(
         shadow: Vec::with_capacity(n),
         truth: None,
         shadow_maps: Vec::new(),
+        visible_depth: i_range.and_then(|i| decode(&data[i])),
         camera: req.camera,
         light: req.light,
         metrics: RenderMetrics::default(),
