@@ -95,11 +95,11 @@ fn fit_held(view: &PreparedView, light: &Light, scene: &Aabb, out: &mut FocusRes
         let (near, far) = (view.camera.near, view.camera.far);
         let bounds = (scene.min, scene.max);
         let receivers_log =
-            nearest_receiver(&view.camera, &view.basis, bounds).and_then(|lo| placement::log_from(near, lo, far, view.splits));
+            nearest_receiver(&view.camera, &view.basis, light, bounds).and_then(|lo| placement::log_from(near, lo, far, view.splits));
         placement::place(&mut planes, receivers_log.as_ref(), view.splits, |planes| {
             out.clear();
             fit_splits(out, view, planes, light, &scene)?;
-            Ok(receiver_aliasing(out.maps(), out.split_depths(), &view.camera, &view.basis, (scene.min, scene.max))
+            Ok(receiver_aliasing(out.maps(), out.split_depths(), &view.camera, &view.basis, light, (scene.min, scene.max))
                 .map(|a| a.map(|a| a.max)))
         })?;
     } else {

@@ -14,10 +14,11 @@
 //! box. Taking them anywhere in `V ∩ S` (facing the camera, as the
 //! logarithmic bound does) puts them in the air at the near plane, where a
 //! camera inside the box sees nothing, and the prediction there is the
-//! near plane's, 9–300× what any pixel measures on the built-in scenes. So the receivers are taken
-//! where the camera rays leave the scene box: its floor seen from above is
-//! the ground, its walls the walls. Casters stand in front of those faces;
-//! they are the part the prediction misses.
+//! near plane's, 9–300× what any pixel measures on the built-in scenes. So
+//! the receivers are taken where the camera rays leave the scene box: its
+//! floor seen from above is the ground, its walls the walls. Casters (and a
+//! terrain above the box's floor) stand in front of those faces; they are
+//! the part the prediction misses.
 
 use crate::predict::clip_ray;
 use crate::project::{image_area_scale, post_perspective};
@@ -79,13 +80,16 @@ impl ViewAliasing {
 ///
 /// The receivers are where each of `RECEIVER_RAYS²` camera rays, spread
 /// evenly over the image, leaves the scene box (a ground, a wall: that
-/// face's normal): a camera inside the scene box sees its surfaces, not the
-/// air in front of its near plane. A ray that reaches the far plane inside
-/// the box has no receiver the fit knows of (the sky above a terrain, fog). A sample counts for the map of the split that holds its
-/// depth (and, for a cube face, that serves its direction). Casters inside
-/// the box are receivers too, nearer than its faces; a warp's aliasing
-/// there is no worse than at the face behind them on the same ray for the
-/// maps' usual near-favouring warps, a uniform map's is.
+/// face's normal), where that face turns toward the light: a camera inside
+/// the scene box sees its surfaces, not the air in front of its near plane,
+/// and a receiver turned away from the light is in its own shadow, where no
+/// aliasing shows (the renderer measures over the receivers that face the
+/// light too). A ray that reaches the far plane inside the box has no
+/// receiver the fit knows of (the sky above a terrain, fog). A sample
+/// counts for the map of the split that holds its depth (and, for a cube
+/// face, that serves its direction). Casters inside the box, and a terrain
+/// above its floor, are receivers nearer than its faces, which the
+/// prediction does not see.
 pub fn predict_aliasing(map: &ShadowMap, camera: &Camera, scene: &Aabb) -> Option<ViewAliasing> {
     if map.fit.state != MapState::Active {
         return None;
@@ -93,7 +97,7 @@ pub fn predict_aliasing(map: &ShadowMap, camera: &Camera, scene: &Aabb) -> Optio
     let basis = camera.basis().ok()?;
     let camera_clip = post_perspective(camera, &basis, 0.0);
     let mut out = None;
-    each_receiver(camera, &basis, (scene.min, scene.max), &map.split_range, |_, p, n, z| {
+    each_receiver(camera, &basis, &map.light, (scene.min, scene.max), &map.split_range, |_, p, n, z| {
         if let Some(e) = aliasing_in(map, &camera_clip, p, n) {
             out = Some(out.map_or(ViewAliasing::one(e, z), |v: ViewAliasing| v.with(e, z)));
         }
@@ -109,11 +113,12 @@ pub(crate) fn receiver_aliasing(
     depths: &[f64],
     camera: &Camera,
     basis: &CameraBasis,
+    light: &Light,
     scene: (DVec3, DVec3),
 ) -> [Option<ViewAliasing>; MAX_SPLITS] {
     let mut out = [None; MAX_SPLITS];
     let camera_clip = post_perspective(camera, basis, 0.0);
-    each_receiver(camera, basis, scene, depths, |split, p, n, z| {
+    each_receiver(camera, basis, light, scene, depths, |split, p, n, z| {
         let Some(e) = split_map(maps, split, p).and_then(|map| aliasing_in(map, &camera_clip, p, n)) else { return };
         out[split] = Some(out[split].map_or(ViewAliasing::one(e, z), |v: ViewAliasing| v.with(e, z)));
     });
@@ -122,18 +127,20 @@ pub(crate) fn receiver_aliasing(
 
 /// The view depth of the nearest receiver sample (see [`predict_aliasing`])
 /// in the camera's depth range; `None` without any.
-pub(crate) fn nearest_receiver(camera: &Camera, basis: &CameraBasis, scene: (DVec3, DVec3)) -> Option<f64> {
+pub(crate) fn nearest_receiver(camera: &Camera, basis: &CameraBasis, light: &Light, scene: (DVec3, DVec3)) -> Option<f64> {
     let mut lo: Option<f64> = None;
-    each_receiver(camera, basis, scene, &[camera.near, camera.far], |_, _, _, z| lo = Some(lo.map_or(z, |l| l.min(z))));
+    each_receiver(camera, basis, light, scene, &[camera.near, camera.far], |_, _, _, z| lo = Some(lo.map_or(z, |l| l.min(z))));
     lo
 }
 
-/// Calls `f(split, p, n, z)` for each receiver sample (point `p`, unit
-/// normal `n`, view depth `z`) in the depth range `depths[0]..=depths[m]`,
-/// `split` the index of the range `[depths[i], depths[i + 1]]` holding `z`.
+/// Calls `f(split, p, n, z)` for each receiver sample that faces `light`
+/// (point `p`, unit normal `n`, view depth `z`) in the depth range
+/// `depths[0]..=depths[m]`, `split` the index of the range
+/// `[depths[i], depths[i + 1]]` holding `z`.
 fn each_receiver(
     camera: &Camera,
     basis: &CameraBasis,
+    light: &Light,
     (lo, hi): (DVec3, DVec3),
     depths: &[f64],
     mut f: impl FnMut(usize, DVec3, DVec3, f64),
@@ -153,8 +160,15 @@ fn each_receiver(
                 continue;
             }
             let Some(axis) = exit.axis else { continue };
-            let n = DVec3::AXES[axis];
-            f(depths[1..m].partition_point(|&c| c < z), camera.eye + d * z, n, z);
+            // The face's normal toward the camera: a receiver there that
+            // faces away from the light is in its own shadow, where no
+            // aliasing shows.
+            let n = DVec3::AXES[axis] * -d[axis].signum();
+            let p = camera.eye + d * z;
+            if !(n.dot(toward_light(light, p)) > 0.0) {
+                continue;
+            }
+            f(depths[1..m].partition_point(|&c| c < z), p, n, z);
         }
     }
 }
@@ -171,6 +185,14 @@ fn aliasing_in(map: &ShadowMap, camera_clip: &DMat4, p: DVec3, n: DVec3) -> Opti
     }
     let e = (image_area_scale(camera_clip, p, n) / image_area_scale(&map.fit.clip_from_world, p, n)).sqrt();
     Some(if e.is_nan() { f64::INFINITY } else { e })
+}
+
+/// The direction from `p` toward `light` (not normalised).
+fn toward_light(light: &Light, p: DVec3) -> DVec3 {
+    match *light {
+        Light::Directional { direction } => -direction,
+        Light::Point { position } | Light::Spot { position, .. } => position - p,
+    }
 }
 
 /// The active map of `split` that serves the point `p` (for a cube, the
