@@ -29,7 +29,7 @@ use shadowfocus_geom::{Aabb, Camera, CameraBasis, Light};
 
 /// Camera rays per image side: the receivers are sampled on
 /// `RECEIVER_RAYS²` rays spread evenly over the image.
-pub(crate) const RECEIVER_RAYS: usize = 9;
+pub(crate) const RECEIVER_RAYS: usize = 17;
 
 /// A map's predicted aliasing at the receivers the scene box implies (see
 /// [`predict_aliasing`]), dimensionless: multiply by `√(W·H) / T`
