@@ -99,8 +99,7 @@ fn fit_held(view: &PreparedView, light: &Light, scene: &Aabb, out: &mut FocusRes
         placement::place(&mut planes, receivers_log.as_ref(), view.splits, |planes| {
             out.clear();
             fit_splits(out, view, planes, light, &scene)?;
-            Ok(receiver_aliasing(out.maps(), out.split_depths(), &view.camera, &view.basis, light, (scene.min, scene.max))
-                .map(|a| a.map(|a| a.max)))
+            Ok(receiver_aliasing(out.maps(), out.split_depths(), &view.camera, &view.basis, light, bounds).map(|a| a.map(|a| a.max)))
         })?;
     } else {
         fit_splits(out, view, &view.depths, light, &scene)?;
@@ -118,14 +117,8 @@ fn fit_splits(out: &mut FocusResult, view: &PreparedView, depths: &Planes, light
     out.set_splits(depths, view.splits, view.settings.clip);
     for i in 0..view.splits {
         let range = [depths[i], depths[i + 1]];
-        let cut;
-        let frustum = if range == view.split_range(i) {
-            view.frustum(i)
-        } else {
-            cut = view.split_frustum(range)?;
-            cut.as_ref()
-        };
-        let Some(frustum) = frustum else {
+        let mut cut = None;
+        let Some(frustum) = view.frustum_in(i, range, &mut cut)? else {
             empty_split(out, &view.settings, light, i, range)?;
             continue;
         };

@@ -51,16 +51,8 @@ use shadowfocus_geom::{Aabb, Body, Light};
 pub(crate) fn fit_receivers(out: &mut FocusResult, view: &PreparedView, scene: &Aabb) -> Result<(), FocusError> {
     let (maps, focuser, receivers) = out.maps_and_work();
     for map in maps.iter_mut().filter(|m| m.fit.state == MapState::Active) {
-        // Optimal split placement moves the planes per light: its splits
-        // are cut anew.
-        let cut;
-        let frustum = if map.split_range == view.split_range(map.split) {
-            view.frustum(map.split)
-        } else {
-            cut = view.split_frustum(map.split_range)?;
-            cut.as_ref()
-        };
-        let Some(frustum) = frustum else { continue };
+        let mut cut = None;
+        let Some(frustum) = view.frustum_in(map.split, map.split_range, &mut cut)? else { continue };
         let p = frustum.corners().iter().fold(DVec3::ZERO, |s, c| s + *c) * 0.125;
         let light = match map.light {
             Light::Spot { frustum, .. } => Light::Spot { position: p, frustum },

@@ -106,6 +106,23 @@ impl PreparedView {
         Ok(())
     }
 
+    /// Split `i`'s frustum for the view-depth range `range`: the prepared
+    /// one where `range` is the view's own, else cut anew into `cut`
+    /// (optimal placement moves the planes per light); `None` for an empty
+    /// range.
+    pub(crate) fn frustum_in<'a>(
+        &'a self,
+        i: usize,
+        range: [f64; 2],
+        cut: &'a mut Option<Frustum>,
+    ) -> Result<Option<&'a Frustum>, FocusError> {
+        if range == self.split_range(i) {
+            return Ok(self.frustum(i));
+        }
+        *cut = self.split_frustum(range)?;
+        Ok(cut.as_ref())
+    }
+
     /// The frustum of the view-depth range `range` (`None` for an empty
     /// range): from the camera, or cut from the given frustum.
     pub(crate) fn split_frustum(&self, range: [f64; 2]) -> Result<Option<Frustum>, FocusError> {
