@@ -46,6 +46,11 @@ fn fitting_a_frame_does_not_allocate() {
     ];
     let casters = [Aabb::new(DVec3::new(-1.0, 0.0, -5.0), DVec3::new(1.0, 3.0, -3.0)).unwrap(); 8];
     let mut idx = [0u32; 8];
+    let receiver_boxes = ReceiverBoxes::new(&[
+        Aabb::new(DVec3::new(-40.0, -1.0, -60.0), DVec3::new(40.0, 0.0, 5.0)).unwrap(),
+        Aabb::new(DVec3::new(-2.0, 0.0, -8.0), DVec3::new(2.0, 4.0, -4.0)).unwrap(),
+    ])
+    .unwrap();
     let mut out = FocusResult::new();
     let mut state = FitState::default();
     let mut run = |out: &mut FocusResult, check: bool| {
@@ -53,8 +58,14 @@ fn fitting_a_frame_does_not_allocate() {
             for method in [Method::Uniform, Method::Psm, Method::Lispsm, Method::Tsm] {
                 for count in [1, 4] {
                     for (stable, depth_clamp) in [(false, false), (true, false), (false, true)] {
-                        let splits = SplitSettings { count, ..Default::default() };
-                        let s = FocusSettings { method, stable, depth_clamp, splits, ..Default::default() };
+                        // Stable maps with the practical planes, the others with
+                        // the default optimal placement.
+                        let scheme = if stable { SplitScheme::Practical { lambda: 0.5 } } else { SplitScheme::Optimal };
+                        let splits = SplitSettings { count, scheme, ..Default::default() };
+                        // Receiver boxes with the receiver fit (they cut R, and
+                        // the optimal placement predicts on them).
+                        let receivers = if depth_clamp { receiver_boxes } else { ReceiverBoxes::NONE };
+                        let s = FocusSettings { method, stable, depth_clamp, splits, receivers, ..Default::default() };
                         let a0 = allocations();
                         fit(&cam, light, &scene, &s, out).unwrap();
                         let a1 = allocations();

@@ -126,7 +126,8 @@ fn the_visible_depth_hint_with_a_frame_of_latency_covers_an_orbit() {
     // drops against splits over [near, far].
     let _one = GPU.lock().unwrap_or_else(|e| e.into_inner());
     let run = |sdsm: bool| {
-        let fit = FitOptions { method: Method::Lispsm, splits: 4, resolution: 512, sdsm, ..FitOptions::default() };
+        let scheme = (!sdsm).then(|| "practical".to_string());
+        let fit = FitOptions { method: Method::Lispsm, splits: 4, resolution: 512, sdsm, scheme, ..FitOptions::default() };
         let out = std::env::temp_dir().join(format!("shadowfocus-temporal-{}-sdsm-{sdsm}", std::process::id()));
         let o = AnimateOptions {
             scene: "robot-war".into(),

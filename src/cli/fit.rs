@@ -22,8 +22,8 @@ pub struct FitOptions {
     pub splits: usize,
     /// uniform | log | practical | geometric:FIRST (the first split ends at view depth FIRST, the
     /// rest geometric, as engines ship cascades) | optimal (per light, splits of even predicted
-    /// aliasing). Default practical; log with --sdsm, whose tight range the logarithmic splits
-    /// fit [SDSM10]
+    /// aliasing). Default optimal; practical with --stable, whose planes must hold still; log
+    /// with --sdsm, whose tight range the logarithmic splits fit [SDSM10]
     #[arg(long)]
     pub scheme: Option<String>,
     /// Weight of the logarithmic scheme in the practical one.
@@ -54,6 +54,11 @@ pub struct FitOptions {
     /// (sample-distribution shadow maps; rendering commands only).
     #[arg(long)]
     pub sdsm: bool,
+    /// Pass the boxes of the scene's receivers (rendering commands only): the predicted aliasing
+    /// that auto and optimal placement use takes its receivers on them, and --fit-receivers and
+    /// --depth-clamp fit to their bounds.
+    #[arg(long)]
+    pub receiver_boxes: bool,
 }
 
 impl Default for FitOptions {
@@ -71,6 +76,7 @@ impl Default for FitOptions {
             fit_receivers: false,
             receiver_margin: Footprint::DEFAULT_MARGIN_TEXELS,
             sdsm: false,
+            receiver_boxes: false,
         }
     }
 }
@@ -98,13 +104,14 @@ pub fn parse_method(s: &str) -> Result<Method, String> {
 }
 
 impl FitOptions {
-    /// The split scheme's name: as given, else `log` with `--sdsm` and
-    /// `practical` without.
+    /// The split scheme's name: as given, else `log` with `--sdsm`,
+    /// `practical` with `--stable` and `optimal` otherwise.
     pub fn scheme_name(&self) -> &str {
         match &self.scheme {
             Some(s) => s,
             None if self.sdsm => "log",
-            None => "practical",
+            None if self.stable => "practical",
+            None => "optimal",
         }
     }
 

@@ -6,7 +6,7 @@ use render::{contact_sheet, write_outputs, Image, LightSpec, RenderRequest, Rend
 use serde_json::{json, Value};
 use shadowfocus_focus::{
     cull_casters, fit, fit_prepared_with_state, predict_aliasing, DepthRange, DepthTest, FitState, FocusResult, FocusSettings, Method,
-    PreparedView,
+    PreparedView, ReceiverBoxes,
 };
 use shadowfocus_geom::{Aabb, Camera, Frustum, Light};
 use shadowfocus_render as render;
@@ -79,7 +79,7 @@ pub fn fit_frame(
     let mut predicted = Vec::new();
     for m in result.maps().iter().filter(|m| m.is_active()) {
         utilisation.push(m.utilisation());
-        predicted.push(predict_aliasing(m, &camera, &bounds).map(|p| p.max));
+        predicted.push(predict_aliasing(m, &camera, &bounds, settings.receivers.as_slice()).map(|p| p.max));
         h_depth_span.push(depth_span(&m.fit.clip_from_world, m.body().vertices()));
         let n = cull_casters(m, &boxes, &mut idx).map_err(|e| e.to_string())?;
         specs.push(ShadowMapSpec {
@@ -104,6 +104,7 @@ pub fn fit_frame(
         "utilisation": utilisation,
         "h_depth_span": h_depth_span,
         "predicted_aliasing": predicted,
+        "split_depths": result.split_depths(),
     });
     Ok((specs, focusing_us, summary))
 }
@@ -247,6 +248,9 @@ pub fn render_frame_hinted(
 ) -> Result<(render::RenderOutput, Value), String> {
     let mut settings = opts.settings()?;
     settings.visible_depth = sdsm;
+    if opts.receiver_boxes {
+        settings.receivers = receiver_boxes(scene)?;
+    }
     // NOTE: the renderer is wgpu: clip depth in [0, 1] (reversed-Z maps
     // render through their greater test), and clamping where the adapter
     // has it. Anything else would render wrong shadows, so it is refused.
@@ -282,12 +286,20 @@ pub fn render_frame_hinted(
         "reversed_z": settings.clip.reversed_z,
         "depth_clamp": settings.depth_clamp,
         "fit_receivers": opts.fit_receivers,
+        "receiver_boxes": settings.receivers.as_slice().len(),
         "visible_depth": sdsm,
         "focusing_us": focusing_us,
         "predicted_aliasing_px": predicted_px,
         "fit": summary,
     });
     Ok((out, extra))
+}
+
+/// The boxes of the scene's receivers (the objects its aliasing statistics
+/// count), as an engine would pass them.
+pub fn receiver_boxes(scene: &Scene) -> Result<ReceiverBoxes, String> {
+    let boxes: Vec<Aabb> = scene.objects.iter().filter(|o| o.receiver).map(|o| Aabb { min: o.aabb.min, max: o.aabb.max }).collect();
+    ReceiverBoxes::new(&boxes).map_err(|e| e.to_string())
 }
 
 pub fn parse_size(s: &str) -> Result<(u32, u32), String> {

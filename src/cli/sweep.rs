@@ -72,6 +72,9 @@ pub struct SweepOptions {
     /// logarithmic over it).
     #[arg(long)]
     pub sdsm: bool,
+    /// Pass every fit the boxes of the scene's receivers (see `render --receiver-boxes`).
+    #[arg(long)]
+    pub receiver_boxes: bool,
     /// Output folder.
     #[arg(long)]
     pub out: PathBuf,
@@ -86,6 +89,8 @@ pub struct SweepMethod {
     pub splits: usize,
     /// Fit to the visible depth range of a pre-pass (`--sdsm`).
     pub sdsm: bool,
+    /// Pass the scene's receiver boxes (`--receiver-boxes`).
+    pub receiver_boxes: bool,
     /// Stable maps (`-stable`): compared with `uniform-stable`.
     pub stable: bool,
     /// The split scheme (`@SCHEME`, as `--scheme` takes it); `None`: the
@@ -126,7 +131,7 @@ pub fn parse_sweep_method(s: &str) -> Result<SweepMethod, String> {
         k.parse::<usize>().ok().filter(|k| (1..=16).contains(k)).ok_or_else(|| format!("sweep method {s:?}: split count must be 1–16"))?
     };
     let name = if splits == 1 { m.to_string() } else { format!("{m}{splits}") };
-    Ok(SweepMethod { name, method, splits, sdsm: false, stable: false, scheme: None })
+    Ok(SweepMethod { name, method, splits, sdsm: false, receiver_boxes: false, stable: false, scheme: None })
 }
 
 impl SweepMethod {
@@ -139,6 +144,7 @@ impl SweepMethod {
             splits: self.splits,
             resolution: res,
             sdsm: self.sdsm,
+            receiver_boxes: self.receiver_boxes,
             stable: self.stable,
             scheme: self.scheme.clone(),
             ..FitOptions::default()
@@ -237,7 +243,7 @@ impl SweepPlan {
         }
         let camera = o.camera.map_or(scene.camera, |c| c.resolve(&scene.camera));
         camera.validate().map_err(|e| e.to_string())?;
-        let methods = o.methods.iter().map(|m| SweepMethod { sdsm: o.sdsm, ..m.clone() }).collect();
+        let methods = o.methods.iter().map(|m| SweepMethod { sdsm: o.sdsm, receiver_boxes: o.receiver_boxes, ..m.clone() }).collect();
         let mut plan = SweepPlan::grid(camera, &o.elevations, &o.azimuths, methods, o.resolution, o.size);
         if let Some(l) = o.light {
             let light = l.resolve(&scene.bounds);

@@ -14,6 +14,11 @@
 #define SF_MAX_SPLITS 8
 
 /*
+ Most receiver boxes kept (`SfSettings::receivers`); more are merged.
+ */
+#define SF_MAX_RECEIVER_BOXES 16
+
+/*
  Most maps one fit can produce (every split of a point light as a cube).
  */
 #define SF_MAX_MAPS 48
@@ -243,6 +248,20 @@ typedef enum SfPointMode {
 typedef struct SfContext SfContext;
 
 /*
+ An axis-aligned box; `min <= max` on every axis (zero thickness allowed).
+ */
+typedef struct SfAabb {
+  /*
+   Smallest corner.
+   */
+  double min[3];
+  /*
+   Largest corner.
+   */
+  double max[3];
+} SfAabb;
+
+/*
  What to fit. Fill it with `sf_settings_default`, then change fields.
  Optional distances are "not set" when 0.
  */
@@ -256,7 +275,7 @@ typedef struct SfSettings {
    */
   uint32_t splits;
   /*
-   An `SfSplitScheme` value (default practical).
+   An `SfSplitScheme` value (default optimal; stable maps with more than one split need another).
    */
   SfSplitScheme split_scheme;
   /*
@@ -377,6 +396,20 @@ typedef struct SfSettings {
    See `visible_depth_min`.
    */
   double visible_depth_max;
+  /*
+   Boxes around the surfaces that receive shadows, when the engine
+   knows them (a terrain's tiles, a level's floors): every shaded
+   receiver must lie in one, casters need not. Maps fitted to their
+   receivers fit to the boxes' bounds, and the optimal split placement
+   predicts aliasing on the boxes. More than `SF_MAX_RECEIVER_BOXES`
+   are merged into that many. Read during the call only; NULL with
+   `receiver_count` 0: none (default).
+   */
+  const struct SfAabb *receivers;
+  /*
+   Number of boxes at `receivers`.
+   */
+  uint32_t receiver_count;
 } SfSettings;
 
 /*
@@ -453,20 +486,6 @@ typedef struct SfLight {
    */
   double far_dist;
 } SfLight;
-
-/*
- An axis-aligned box; `min <= max` on every axis (zero thickness allowed).
- */
-typedef struct SfAabb {
-  /*
-   Smallest corner.
-   */
-  double min[3];
-  /*
-   Largest corner.
-   */
-  double max[3];
-} SfAabb;
 
 /*
  One fitted shadow map.

@@ -6,7 +6,7 @@ use crate::types::*;
 use glam::DVec3;
 use shadowfocus_focus::{
     ClipConvention, DepthRange, DepthTest, FitState, FocusSettings, Footprint, LightNear, LispsmSettings, MapOrientation, Method,
-    PointMode, PsmSettings, ShadowMap, SplitScheme, SplitSettings, TsmSettings, UvOrigin, WarpDirection, WarpHold,
+    PointMode, PsmSettings, ReceiverBoxes, ShadowMap, SplitScheme, SplitSettings, TsmSettings, UvOrigin, WarpDirection, WarpHold,
 };
 use shadowfocus_geom::{Aabb, Camera, Frustum, Light};
 use std::ffi::c_int;
@@ -66,7 +66,12 @@ fn optional(v: f64) -> Option<f64> {
 }
 
 /// The settings, with every enum value checked (the ranges are checked by the fit).
-pub fn settings(s: &SfSettings) -> Result<FocusSettings, Failure> {
+///
+/// # Safety
+/// `s.receivers` is NULL or points to `s.receiver_count` boxes.
+pub unsafe fn settings(s: &SfSettings) -> Result<FocusSettings, Failure> {
+    // SAFETY: as the caller promises; NULL is refused unless the count is 0.
+    let receivers = unsafe { receiver_boxes(s.receivers, s.receiver_count)? };
     Ok(FocusSettings {
         method: method(s.method)?,
         splits: SplitSettings { count: s.splits as usize, scheme: scheme(s)?, delta_bias: s.delta_bias },
@@ -104,7 +109,24 @@ pub fn settings(s: &SfSettings) -> Result<FocusSettings, Failure> {
             Footprint::Body
         },
         visible_depth: (s.visible_depth_min != 0.0 || s.visible_depth_max != 0.0).then_some([s.visible_depth_min, s.visible_depth_max]),
+        receivers,
     })
+}
+
+/// The receiver boxes at `p`, checked.
+///
+/// # Safety
+/// `p` is NULL or points to `n` boxes.
+unsafe fn receiver_boxes(p: *const SfAabb, n: u32) -> Result<ReceiverBoxes, Failure> {
+    if n == 0 {
+        return Ok(ReceiverBoxes::NONE);
+    }
+    if p.is_null() {
+        return Err(Failure::null("settings.receivers"));
+    }
+    // SAFETY: non-NULL and `n` boxes long (caller).
+    let boxes = unsafe { std::slice::from_raw_parts(p, n as usize) };
+    Ok(ReceiverBoxes::from_boxes(boxes.iter().map(|b| Aabb { min: v3(b.min), max: v3(b.max) }))?)
 }
 
 const METHODS: [Method; 5] = [Method::Uniform, Method::Psm, Method::Lispsm, Method::Tsm, Method::Auto];
@@ -187,6 +209,8 @@ pub fn default_settings() -> SfSettings {
         },
         visible_depth_min: d.visible_depth.map_or(0.0, |r| r[0]),
         visible_depth_max: d.visible_depth.map_or(0.0, |r| r[1]),
+        receivers: std::ptr::null(),
+        receiver_count: 0,
     }
 }
 

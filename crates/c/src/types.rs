@@ -126,6 +126,9 @@ pub type SfPointModeInt = c_int;
 
 /// Most parallel splits.
 pub const SF_MAX_SPLITS: u32 = 8;
+
+/// Most receiver boxes kept (`SfSettings::receivers`); more are merged.
+pub const SF_MAX_RECEIVER_BOXES: u32 = 16;
 /// Most maps one fit can produce (every split of a point light as a cube).
 pub const SF_MAX_MAPS: u32 = 48;
 /// Most vertices of a focus body.
@@ -252,7 +255,7 @@ pub struct SfSettings {
     pub method: SfMethodInt,
     /// Number of parallel splits, 1 to `SF_MAX_SPLITS` (default 1).
     pub splits: u32,
-    /// An `SfSplitScheme` value (default practical).
+    /// An `SfSplitScheme` value (default optimal; stable maps with more than one split need another).
     pub split_scheme: SfSplitSchemeInt,
     /// Weight of the logarithmic planes in the practical scheme, in [0, 1] (default 0.5).
     pub lambda: f64,
@@ -322,6 +325,16 @@ pub struct SfSettings {
     pub visible_depth_min: f64,
     /// See `visible_depth_min`.
     pub visible_depth_max: f64,
+    /// Boxes around the surfaces that receive shadows, when the engine
+    /// knows them (a terrain's tiles, a level's floors): every shaded
+    /// receiver must lie in one, casters need not. Maps fitted to their
+    /// receivers fit to the boxes' bounds, and the optimal split placement
+    /// predicts aliasing on the boxes. More than `SF_MAX_RECEIVER_BOXES`
+    /// are merged into that many. Read during the call only; NULL with
+    /// `receiver_count` 0: none (default).
+    pub receivers: *const SfAabb,
+    /// Number of boxes at `receivers`.
+    pub receiver_count: u32,
 }
 
 /// One fitted shadow map.

@@ -11,7 +11,7 @@ use crate::result::{CubeFace, FocusResult, MapFit, MapState, Notes, ShadowMap, S
 use crate::settings::{FocusSettings, Footprint, Method, PointMode, SplitScheme};
 use crate::state::{FitState, Held};
 use crate::view::PreparedView;
-use crate::view_aliasing::{nearest_receiver, receiver_aliasing};
+use crate::view_aliasing::{nearest_receiver, receiver_aliasing, ReceiverModel};
 use glam::DVec3;
 use shadowfocus_geom::{Aabb, Body, Camera, Focuser, Frustum, Light, MAX_VERTICES, ROUNDING_ULPS};
 
@@ -93,13 +93,13 @@ fn fit_held(view: &PreparedView, light: &Light, scene: &Aabb, out: &mut FocusRes
     if view.settings.splits.scheme == SplitScheme::Optimal && view.splits > 1 {
         let mut planes = view.depths;
         let (near, far) = (view.camera.near, view.camera.far);
-        let bounds = (scene.min, scene.max);
+        let model = ReceiverModel::new(&scene, view.settings.receivers.as_slice());
         let receivers_log =
-            nearest_receiver(&view.camera, &view.basis, light, bounds).and_then(|lo| placement::log_from(near, lo, far, view.splits));
+            nearest_receiver(&view.camera, &view.basis, light, model).and_then(|lo| placement::log_from(near, lo, far, view.splits));
         placement::place(&mut planes, receivers_log.as_ref(), view.splits, |planes| {
             out.clear();
             fit_splits(out, view, planes, light, &scene)?;
-            Ok(receiver_aliasing(out.maps(), out.split_depths(), &view.camera, &view.basis, light, bounds).map(|a| a.map(|a| a.max)))
+            Ok(receiver_aliasing(out.maps(), out.split_depths(), &view.camera, &view.basis, light, model).map(|a| a.map(|a| a.max)))
         })?;
     } else {
         fit_splits(out, view, &view.depths, light, &scene)?;

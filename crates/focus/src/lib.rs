@@ -102,6 +102,7 @@ mod methods;
 mod placement;
 mod predict;
 mod project;
+mod receiver_boxes;
 mod receivers;
 mod result;
 #[cfg(feature = "serde")]
@@ -120,6 +121,7 @@ pub use cull::{caster_planes, cull_casters, CasterRegion, MAX_REGION_PLANES};
 pub use error::FocusError;
 pub use fit::{fit, fit_frustum, fit_map, fit_prepared, fit_prepared_with_state};
 pub use frame::S0 as ORIENTATION_BLEND_SIN;
+pub use receiver_boxes::{ReceiverBoxes, MAX_RECEIVER_BOXES};
 pub use result::{CubeFace, DepthTest, FocusResult, MapFit, MapState, Notes, ShadowMap, Skipped};
 pub use settings::{
     FocusSettings, Footprint, LightNear, LispsmSettings, MapOrientation, Method, PointMode, PsmSettings, SplitScheme, SplitSettings,

@@ -27,6 +27,12 @@
 //! logarithmic scheme from `near` spends its first splits on air, and the
 //! update, which moves planes by at most `MAX_STEP` per round, would take
 //! several rounds to leave it.
+//!
+//! The first plane never moves beyond the start's (the practical scheme's):
+//! the first split's worst receivers are the nearest ones, which the
+//! prediction misses where they stand in front of the faces it samples (a
+//! terrain above the scene box's floor seen from eye height), so it
+//! predicts that split too good and would lengthen it.
 
 use crate::error::FocusError;
 use crate::MAX_SPLITS;
@@ -60,13 +66,19 @@ pub(crate) fn place(
     m: usize,
     mut fit: impl FnMut(&Planes) -> Result<SplitAliasing, FocusError>,
 ) -> Result<(), FocusError> {
+    let first = planes[1];
     let mut a = fit(planes)?;
     let mut best = (*planes, worst(&a, m));
-    if let Some(other) = other.filter(|o| *o != planes) {
-        let b = fit(other)?;
+    let other = other.map(|o| {
+        let mut o = *o;
+        o[1] = o[1].min(first);
+        o
+    });
+    if let Some(other) = other.filter(|o| o != planes) {
+        let b = fit(&other)?;
         let w = worst(&b, m);
         if w < best.1 {
-            (*planes, a, best) = (*other, b, (*other, w));
+            (*planes, a, best) = (other, b, (other, w));
         } else {
             // The last fit must be with the planes kept.
             a = fit(planes)?;
@@ -74,7 +86,7 @@ pub(crate) fn place(
     }
     let mut last_is_best = true;
     for _ in 0..PLACEMENT_ROUNDS {
-        if !rebalance(planes, m, &a) {
+        if !rebalance(planes, m, &a, first) {
             break;
         }
         a = fit(planes)?;
@@ -114,8 +126,9 @@ fn worst(a: &SplitAliasing, m: usize) -> f64 {
     a[..m].iter().flatten().fold(0.0, |w: f64, &x| if x.is_nan() { f64::INFINITY } else { w.max(x) })
 }
 
-/// One round of the update above; `false` when it has nothing to move.
-fn rebalance(planes: &mut Planes, m: usize, a: &SplitAliasing) -> bool {
+/// One round of the update above, the first plane at most `first`;
+/// `false` when it has nothing to move.
+fn rebalance(planes: &mut Planes, m: usize, a: &SplitAliasing, first: f64) -> bool {
     let (near, far) = (planes[0], planes[m]);
     let total = (far / near).ln();
     let mut len = [0.0; MAX_SPLITS];
@@ -158,6 +171,7 @@ fn rebalance(planes: &mut Planes, m: usize, a: &SplitAliasing) -> bool {
         // far plane stays exactly `far` and the order is kept by the clamp.
         planes[i] = (planes[i - 1] * new[i - 1].exp()).clamp(planes[i - 1], far);
     }
+    planes[1] = planes[1].min(first);
     true
 }
 

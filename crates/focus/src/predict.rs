@@ -186,6 +186,9 @@ fn bounds(pts: &[DVec3]) -> (DVec3, DVec3) {
 pub(crate) struct Exit {
     /// The view depth where the ray enters the box (or `near`).
     pub entry: f64,
+    /// The axis of the box face it enters through; `None` where it is
+    /// inside at `near` already.
+    pub entry_axis: Option<usize>,
     /// The view depth of the exit point.
     pub depth: f64,
     /// The axis of the box face it leaves through; `None` where the ray
@@ -197,7 +200,7 @@ pub(crate) struct Exit {
 /// clipping); `None` where it never is inside.
 pub(crate) fn clip_ray(eye: DVec3, d: DVec3, near: f64, far: f64, lo: DVec3, hi: DVec3) -> Option<Exit> {
     let (mut z0, mut z1) = (near, far);
-    let mut axis = None;
+    let (mut entry_axis, mut axis) = (None, None);
     for k in 0..3 {
         let (e, dk) = (eye[k], d[k]);
         if dk == 0.0 {
@@ -207,13 +210,16 @@ pub(crate) fn clip_ray(eye: DVec3, d: DVec3, near: f64, far: f64, lo: DVec3, hi:
             continue;
         }
         let (a, b) = ((lo[k] - e) / dk, (hi[k] - e) / dk);
-        z0 = z0.max(a.min(b));
+        if a.min(b) > z0 {
+            z0 = a.min(b);
+            entry_axis = Some(k);
+        }
         if a.max(b) < z1 {
             z1 = a.max(b);
             axis = Some(k);
         }
     }
-    (z0 <= z1 && z0 > 0.0).then_some(Exit { entry: z0, depth: z1, axis })
+    (z0 <= z1 && z0 > 0.0).then_some(Exit { entry: z0, entry_axis, depth: z1, axis })
 }
 
 #[cfg(test)]
@@ -227,9 +233,15 @@ mod tests {
         let (lo, hi) = (DVec3::new(-10.0, -2.0, -10.0), DVec3::new(10.0, -1.0, 10.0));
         // The box y ∈ [−2, −1] is crossed between z = 2 and z = 4, left
         // through its face y = −2.
-        assert_eq!(clip_ray(eye, d, 0.1, 100.0, lo, hi), Some(Exit { entry: 2.0, depth: 4.0, axis: Some(1) }));
+        assert_eq!(clip_ray(eye, d, 0.1, 100.0, lo, hi), Some(Exit { entry: 2.0, entry_axis: Some(1), depth: 4.0, axis: Some(1) }));
         // Far inside the box: the ray ends there, on no face.
-        assert_eq!(clip_ray(eye, d, 0.1, 3.0, lo, hi), Some(Exit { entry: 2.0, depth: 3.0, axis: None }));
+        assert_eq!(clip_ray(eye, d, 0.1, 3.0, lo, hi), Some(Exit { entry: 2.0, entry_axis: Some(1), depth: 3.0, axis: None }));
+        // From inside: no face entered.
+        let inside = (DVec3::splat(-10.0), DVec3::splat(10.0));
+        assert_eq!(
+            clip_ray(eye, d, 0.1, 100.0, inside.0, inside.1),
+            Some(Exit { entry: 0.1, entry_axis: None, depth: 10.0, axis: Some(2) })
+        );
         // Beyond far: nothing.
         assert_eq!(clip_ray(eye, d, 0.1, 1.5, lo, hi), None);
         // Parallel to a slab and outside it.

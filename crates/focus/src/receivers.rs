@@ -49,8 +49,18 @@ use shadowfocus_geom::{Aabb, Body, Light};
 /// Refits every active map of `out` to its receivers, as the view's
 /// settings ask (a footprint, a depth range, or both).
 pub(crate) fn fit_receivers(out: &mut FocusResult, view: &PreparedView, scene: &Aabb) -> Result<(), FocusError> {
+    // With receiver boxes, every receiver lies in their bounds too.
+    let scene = match view.settings().receivers.bounds() {
+        None => Some(*scene),
+        Some(b) => intersection(scene, &b),
+    };
     let (maps, focuser, receivers) = out.maps_and_work();
     for map in maps.iter_mut().filter(|m| m.fit.state == MapState::Active) {
+        let Some(scene) = &scene else {
+            // No receiver in the scene box: nothing to shadow.
+            map.set_empty();
+            continue;
+        };
         let mut cut = None;
         let Some(frustum) = view.frustum_in(map.split, map.split_range, &mut cut)? else { continue };
         let p = frustum.corners().iter().fold(DVec3::ZERO, |s, c| s + *c) * 0.125;
@@ -68,6 +78,12 @@ pub(crate) fn fit_receivers(out: &mut FocusResult, view: &PreparedView, scene: &
         refit(map, receivers, view);
     }
     Ok(())
+}
+
+/// The common part of two boxes; `None` where they do not meet.
+fn intersection(a: &Aabb, b: &Aabb) -> Option<Aabb> {
+    let (min, max) = (a.min.max(b.min), a.max.min(b.max));
+    min.cmple(max).all().then_some(Aabb { min, max })
 }
 
 /// The rows of `map` that the settings fit to the receivers `r`, refitted.

@@ -2,6 +2,7 @@
 
 use crate::clip::ClipConvention;
 use crate::error::FocusError;
+use crate::receiver_boxes::ReceiverBoxes;
 use crate::MAX_SPLITS;
 
 /// The shadow-map parameterisation.
@@ -61,14 +62,16 @@ pub enum SplitScheme {
         first: f64,
     },
     /// Planes placed per light so that the splits' predicted maximum
-    /// aliasing ([`crate::predict_aliasing`]: at the receivers the scene box
-    /// implies) is as even as the maps allow: from the better of
-    /// `Practical { λ = ½ }` and logarithmic planes over the receivers'
+    /// aliasing ([`crate::predict_aliasing`]: at the receiver boxes where
+    /// [`crate::FocusSettings::receivers`] gives them, else at the receivers
+    /// the scene box implies) is as even as the maps allow: from the better
+    /// of `Practical { λ = ½ }` and logarithmic planes over the receivers'
     /// depth range, each round refits every split and moves the planes in
     /// log depth toward equal aliasing, and the best planes are kept —
-    /// never worse by the prediction than the practical ones. Costs a few
-    /// fits per frame; the planes move with the view and the light, so
-    /// stable maps refuse it.
+    /// never worse by the prediction than the practical ones. The default:
+    /// it costs a few fits per frame, and the planes move with the view and
+    /// the light, so stable maps refuse it (choose `Practical`, `Log` or
+    /// `Geometric` with them).
     Optimal,
 }
 
@@ -78,7 +81,7 @@ pub enum SplitScheme {
 pub struct SplitSettings {
     /// Number of splits, `1..=MAX_SPLITS`; 1 is a single map.
     pub count: usize,
-    /// How the split planes are placed.
+    /// How the split planes are placed (default [`SplitScheme::Optimal`]).
     pub scheme: SplitScheme,
     /// Non-negative shift of the inner split planes (δ_bias of eq. 7); the
     /// outer planes stay at the camera's near and far.
@@ -87,7 +90,7 @@ pub struct SplitSettings {
 
 impl Default for SplitSettings {
     fn default() -> Self {
-        SplitSettings { count: 1, scheme: SplitScheme::Practical { lambda: 0.5 }, delta_bias: 0.0 }
+        SplitSettings { count: 1, scheme: SplitScheme::Optimal, delta_bias: 0.0 }
     }
 }
 
@@ -320,6 +323,15 @@ pub struct FocusSettings {
     /// splits are the ones that gain (the practical scheme's uniform part
     /// lengthens the first split as the near end moves out).
     pub visible_depth: Option<[f64; 2]>,
+    /// Boxes around the surfaces that receive shadows, when the engine
+    /// knows them (a terrain's tiles, a level's floors): maps fitted to
+    /// their receivers ([`Footprint::Receivers`], `depth_clamp`) fit to the
+    /// part inside the boxes' bounds, and the predicted aliasing
+    /// ([`SplitScheme::Optimal`], [`crate::predict_aliasing`]) takes its
+    /// receivers on the boxes. Every shaded receiver must lie in a box;
+    /// casters need not. Empty by default.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub receivers: ReceiverBoxes,
 }
 
 impl Default for FocusSettings {
@@ -341,6 +353,7 @@ impl Default for FocusSettings {
             depth_clamp: false,
             footprint: Footprint::Body,
             visible_depth: None,
+            receivers: ReceiverBoxes::NONE,
         }
     }
 }
@@ -378,10 +391,10 @@ impl FocusSettings {
             SplitScheme::Geometric { first } if !(first.is_finite() && first > 0.0) => {
                 return bad("splits.first", "must be finite and positive")
             }
-            SplitScheme::Optimal if self.stable => {
+            SplitScheme::Optimal if self.stable && self.splits.count > 1 => {
                 return bad(
                     "splits.scheme",
-                    "optimal placement moves the split planes with the view and the light; stable maps need planes that hold still",
+                    "optimal placement (the default) moves the split planes with the view and the light; stable maps need planes that hold still: choose Practical, Log, Uniform or Geometric",
                 )
             }
             _ => {}

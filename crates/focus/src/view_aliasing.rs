@@ -10,15 +10,17 @@
 //! prediction keeps the dimensionless first factor; [`ViewAliasing::in_pixels`]
 //! applies the second.
 //!
-//! Where the receivers are is what the fit does not know: only the scene
-//! box. Taking them anywhere in `V ∩ S` (facing the camera, as the
-//! logarithmic bound does) puts them in the air at the near plane, where a
-//! camera inside the box sees nothing, and the prediction there is the
-//! near plane's, 9–300× what any pixel measures on the built-in scenes. So
-//! the receivers are taken where the camera rays leave the scene box: its
-//! floor seen from above is the ground, its walls the walls. Casters (and a
-//! terrain above the box's floor) stand in front of those faces; they are
-//! the part the prediction misses.
+//! Where the receivers are is what the fit does not know, unless the
+//! engine passes their boxes ([`crate::ReceiverBoxes`]): then each camera
+//! ray's receiver is where it first meets a box. Without them, only the
+//! scene box is known. Taking receivers anywhere in `V ∩ S` (facing the
+//! camera, as the logarithmic bound does) puts them in the air at the near
+//! plane, where a camera inside the box sees nothing, and the prediction
+//! there is the near plane's, 9–300× what any pixel measures on the
+//! built-in scenes. So the receivers are taken where the camera rays leave
+//! the scene box: its floor seen from above is the ground, its walls the
+//! walls. Casters (and a terrain above the box's floor) stand in front of
+//! those faces; they are the part the prediction misses.
 
 use crate::predict::clip_ray;
 use crate::project::{image_area_scale, post_perspective};
@@ -26,6 +28,67 @@ use crate::result::{CubeFace, MapState, ShadowMap};
 use crate::MAX_SPLITS;
 use glam::{DMat4, DVec3};
 use shadowfocus_geom::{Aabb, Camera, CameraBasis, Light};
+
+/// Where the camera rays find their receivers: where they leave the scene
+/// box, or where they first meet a receiver box.
+#[derive(Clone, Copy)]
+pub(crate) enum ReceiverModel<'a> {
+    SceneBox(&'a Aabb),
+    Boxes(&'a [Aabb]),
+}
+
+impl<'a> ReceiverModel<'a> {
+    /// The receiver boxes where there are any, else the scene box.
+    pub fn new(scene: &'a Aabb, receivers: &'a [Aabb]) -> ReceiverModel<'a> {
+        if receivers.is_empty() {
+            ReceiverModel::SceneBox(scene)
+        } else {
+            ReceiverModel::Boxes(receivers)
+        }
+    }
+
+    /// The receiver on the ray `eye + z·d` (`d · forward = 1`) in
+    /// `[near, far]`; `None` where it has none.
+    fn hit(self, eye: DVec3, d: DVec3, near: f64, far: f64) -> Option<Hit> {
+        let face = |b: usize, axis: usize| Hit::face_id(b, axis, d);
+        match self {
+            ReceiverModel::SceneBox(b) => {
+                let exit = clip_ray(eye, d, near, far, b.min, b.max)?;
+                let axis = exit.axis?;
+                Some(Hit { z: exit.depth, axis, face: face(0, axis) })
+            }
+            // The face a ray enters a box through, or leaves it through
+            // where it starts inside; the nearest over the boxes.
+            ReceiverModel::Boxes(boxes) => boxes
+                .iter()
+                .enumerate()
+                .filter_map(|(k, b)| {
+                    let x = clip_ray(eye, d, near, far, b.min, b.max)?;
+                    let (z, axis) = match x.entry_axis {
+                        Some(axis) => (x.entry, axis),
+                        None => (x.depth, x.axis?),
+                    };
+                    Some(Hit { z, axis, face: face(k, axis) })
+                })
+                .min_by(|a, b| a.z.total_cmp(&b.z)),
+        }
+    }
+}
+
+/// A camera ray's receiver: its view depth, the axis of the box face it
+/// lies on, and which face of which box that is.
+#[derive(Clone, Copy)]
+struct Hit {
+    z: f64,
+    axis: usize,
+    face: usize,
+}
+
+impl Hit {
+    fn face_id(b: usize, axis: usize, d: DVec3) -> usize {
+        (b * 3 + axis) * 2 + usize::from(d[axis] > 0.0)
+    }
+}
 
 /// Camera rays per image side: the receivers are sampled on
 /// `RECEIVER_RAYS²` rays spread evenly over the image.
@@ -74,30 +137,33 @@ impl ViewAliasing {
 }
 
 /// The predicted aliasing of `map` for the view of `camera` (the camera the
-/// maps were fitted for, its full depth range) in the scene box `scene`;
-/// `None` for a map with nothing to render, or one that serves none of the
-/// receiver samples.
+/// maps were fitted for, its full depth range) in the scene box `scene`,
+/// with the receiver boxes `receivers` where the engine knows them (empty:
+/// none known); `None` for a map with nothing to render, or one that
+/// serves none of the receiver samples.
 ///
 /// The receivers are where each of `RECEIVER_RAYS²` camera rays, spread
-/// evenly over the image, leaves the scene box (a ground, a wall: that
-/// face's normal), where that face turns toward the light: a camera inside
+/// evenly over the image, first meets a receiver box (the face it enters
+/// through, or leaves through from inside), or without boxes where it
+/// leaves the scene box (a ground, a wall: that face's normal), where that
+/// face turns toward the light: a camera inside
 /// the scene box sees its surfaces, not the air in front of its near plane,
 /// and a receiver turned away from the light is in its own shadow, where no
 /// aliasing shows (the renderer measures over the receivers that face the
 /// light too). A ray that reaches the far plane inside the box has no
 /// receiver the fit knows of (the sky above a terrain, fog). A sample
 /// counts for the map of the split that holds its depth (and, for a cube
-/// face, that serves its direction). Casters inside the box, and a terrain
-/// above its floor, are receivers nearer than its faces, which the
-/// prediction does not see.
-pub fn predict_aliasing(map: &ShadowMap, camera: &Camera, scene: &Aabb) -> Option<ViewAliasing> {
+/// face, that serves its direction). Without receiver boxes, casters inside
+/// the scene box, and a terrain above its floor, are receivers nearer than
+/// its faces, which the prediction does not see.
+pub fn predict_aliasing(map: &ShadowMap, camera: &Camera, scene: &Aabb, receivers: &[Aabb]) -> Option<ViewAliasing> {
     if map.fit.state != MapState::Active {
         return None;
     }
     let basis = camera.basis().ok()?;
     let camera_clip = post_perspective(camera, &basis, 0.0);
     let mut out = None;
-    each_receiver(camera, &basis, &map.light, (scene.min, scene.max), &map.split_range, |_, p, n, z| {
+    each_receiver(camera, &basis, &map.light, ReceiverModel::new(scene, receivers), &map.split_range, |_, p, n, z| {
         if let Some(e) = aliasing_in(map, &camera_clip, p, n) {
             out = Some(out.map_or(ViewAliasing::one(e, z), |v: ViewAliasing| v.with(e, z)));
         }
@@ -114,11 +180,11 @@ pub(crate) fn receiver_aliasing(
     camera: &Camera,
     basis: &CameraBasis,
     light: &Light,
-    scene: (DVec3, DVec3),
+    model: ReceiverModel,
 ) -> [Option<ViewAliasing>; MAX_SPLITS] {
     let mut out = [None; MAX_SPLITS];
     let camera_clip = post_perspective(camera, basis, 0.0);
-    each_receiver(camera, basis, light, scene, depths, |split, p, n, z| {
+    each_receiver(camera, basis, light, model, depths, |split, p, n, z| {
         let Some(e) = split_map(maps, split, p).and_then(|map| aliasing_in(map, &camera_clip, p, n)) else { return };
         out[split] = Some(out[split].map_or(ViewAliasing::one(e, z), |v: ViewAliasing| v.with(e, z)));
     });
@@ -127,9 +193,9 @@ pub(crate) fn receiver_aliasing(
 
 /// The view depth of the nearest receiver sample (see [`predict_aliasing`])
 /// in the camera's depth range; `None` without any.
-pub(crate) fn nearest_receiver(camera: &Camera, basis: &CameraBasis, light: &Light, scene: (DVec3, DVec3)) -> Option<f64> {
+pub(crate) fn nearest_receiver(camera: &Camera, basis: &CameraBasis, light: &Light, model: ReceiverModel) -> Option<f64> {
     let mut lo: Option<f64> = None;
-    each_receiver(camera, basis, light, scene, &[camera.near, camera.far], |_, _, _, z| lo = Some(lo.map_or(z, |l| l.min(z))));
+    each_receiver(camera, basis, light, model, &[camera.near, camera.far], |_, _, _, z| lo = Some(lo.map_or(z, |l| l.min(z))));
     lo
 }
 
@@ -137,11 +203,18 @@ pub(crate) fn nearest_receiver(camera: &Camera, basis: &CameraBasis, light: &Lig
 /// (point `p`, unit normal `n`, view depth `z`) in the depth range
 /// `depths[0]..=depths[m]`, `split` the index of the range
 /// `[depths[i], depths[i + 1]]` holding `z`.
+///
+/// The samples are the receivers of `RECEIVER_RAYS²` rays spread evenly
+/// over the image, and, in each column of rays, the points where a face
+/// the rays meet crosses a plane of `depths` (reported for the splits on
+/// both sides): a split's worst receiver on a face is mostly at one of its
+/// ends, which evenly spread rays miss where a split holds few rows of the
+/// image (far splits over a ground seen near the horizon).
 fn each_receiver(
     camera: &Camera,
     basis: &CameraBasis,
     light: &Light,
-    (lo, hi): (DVec3, DVec3),
+    model: ReceiverModel,
     depths: &[f64],
     mut f: impl FnMut(usize, DVec3, DVec3, f64),
 ) {
@@ -149,26 +222,66 @@ fn each_receiver(
     let ty = (0.5 * camera.fovy).tan();
     let tx = ty * camera.aspect;
     let g = |k: usize| 2.0 * k as f64 / (RECEIVER_RAYS - 1) as f64 - 1.0;
-    for j in 0..RECEIVER_RAYS {
-        for i in 0..RECEIVER_RAYS {
-            let d = basis.forward + basis.right * (g(i) * tx) + basis.up * (g(j) * ty);
-            // The ray is clipped to the camera's whole range: a ray that
-            // leaves the box beyond the planes has no receiver in them.
-            let Some(exit) = clip_ray(camera.eye, d, camera.near, camera.far, lo, hi) else { continue };
-            let z = exit.depth;
-            if z < depths[0] || z > depths[m] {
-                continue;
+    for i in 0..RECEIVER_RAYS {
+        let ray = |gy: f64| basis.forward + basis.right * (g(i) * tx) + basis.up * (gy * ty);
+        // The ray is clipped to the camera's whole range: a ray whose
+        // receiver lies beyond the planes has none in them.
+        let hit = |gy: f64| model.hit(camera.eye, ray(gy), camera.near, camera.far);
+        // The face's normal toward the camera: a receiver there that faces
+        // away from the light is in its own shadow, where no aliasing
+        // shows.
+        let mut sample = |split: usize, gy: f64, h: Hit| {
+            let d = ray(gy);
+            let n = DVec3::AXES[h.axis] * -d[h.axis].signum();
+            let p = camera.eye + d * h.z;
+            if n.dot(toward_light(light, p)) > 0.0 {
+                f(split, p, n, h.z);
             }
-            let Some(axis) = exit.axis else { continue };
-            // The face's normal toward the camera: a receiver there that
-            // faces away from the light is in its own shadow, where no
-            // aliasing shows.
-            let n = DVec3::AXES[axis] * -d[axis].signum();
-            let p = camera.eye + d * z;
-            if !(n.dot(toward_light(light, p)) > 0.0) {
-                continue;
+        };
+        let mut column = [None; RECEIVER_RAYS];
+        for (j, c) in column.iter_mut().enumerate() {
+            *c = hit(g(j));
+            if let Some(h) = *c {
+                if h.z >= depths[0] && h.z <= depths[m] {
+                    sample(depths[1..m].partition_point(|&c| c < h.z), g(j), h);
+                }
             }
-            f(depths[1..m].partition_point(|&c| c < z), p, n, z);
+        }
+        // Along a column, `1/z` on a plane is affine in the image row: the
+        // rows where a face crosses each plane follow from two rays on it
+        // (interpolated between them, or extrapolated beyond them up to
+        // the next ray where that meets another face or nothing), and a ray
+        // there confirms the face.
+        for j in 0..RECEIVER_RAYS - 1 {
+            let same = |a: usize, b: usize| matches!((column[a], column[b]), (Some(x), Some(y)) if x.face == y.face);
+            let line = if same(j, j + 1) {
+                Some((j, j + 1))
+            } else if j > 0 && same(j - 1, j) {
+                Some((j - 1, j))
+            } else if j + 2 < RECEIVER_RAYS && same(j + 1, j + 2) {
+                Some((j + 1, j + 2))
+            } else {
+                None
+            };
+            let Some((a, b)) = line else { continue };
+            let (ha, hb) = (column[a].unwrap(), column[b].unwrap());
+            let (wa, wb) = (1.0 / ha.z, 1.0 / hb.z);
+            for (k, &zk) in depths.iter().enumerate() {
+                let gy = g(a) + (g(b) - g(a)) * (1.0 / zk - wa) / (wb - wa);
+                if !(gy > g(j) && gy < g(j + 1)) {
+                    continue;
+                }
+                // NOTE: `h.z` is `zk` up to rounding, either way: the sample
+                // goes to the splits on both sides of the plane whatever the
+                // last bit, so that a split predicts the same alone
+                // (`predict_aliasing`) as among the others.
+                let Some(h) = hit(gy).filter(|h| h.face == ha.face) else { continue };
+                for split in [k.wrapping_sub(1), k] {
+                    if split < m {
+                        sample(split, gy, h);
+                    }
+                }
+            }
         }
     }
 }

@@ -8,6 +8,9 @@ use glam::DVec3;
 use shadowfocus_focus::*;
 use shadowfocus_geom::{Aabb, Camera, Frustum, Light};
 
+/// Stable maps need split planes that hold still.
+const PRACTICAL: SplitScheme = SplitScheme::Practical { lambda: 0.5 };
+
 fn camera() -> Camera {
     Camera { eye: DVec3::new(0.0, 2.0, 10.0), forward: DVec3::NEG_Z, up: DVec3::Y, fovy: 1.0, aspect: 1.5, near: 0.5, far: 100.0 }
 }
@@ -181,8 +184,12 @@ fn tsm_puts_the_focus_point_on_the_80_percent_line() {
 
 #[test]
 fn stable_maps_snap_to_texels_and_ignore_rotation() {
-    let s =
-        FocusSettings { stable: true, resolution: 1024, splits: SplitSettings { count: 3, ..Default::default() }, ..Default::default() };
+    let s = FocusSettings {
+        stable: true,
+        resolution: 1024,
+        splits: SplitSettings { count: 3, scheme: PRACTICAL, ..Default::default() },
+        ..Default::default()
+    };
     let sun = Light::directional(DVec3::new(0.3, -1.0, 0.45)).unwrap();
     let scene = Aabb::new(DVec3::new(-500.0, -50.0, -500.0), DVec3::new(500.0, 50.0, 500.0)).unwrap();
     let base = camera();
@@ -593,7 +600,7 @@ fn long_and_short_light_directions_fit_like_unit_ones() {
     let mut idx = vec![0u32; casters.len()];
     let settings = [
         FocusSettings::default(),
-        FocusSettings { stable: true, splits: SplitSettings { count: 4, ..Default::default() }, ..Default::default() },
+        FocusSettings { stable: true, splits: SplitSettings { count: 4, scheme: PRACTICAL, ..Default::default() }, ..Default::default() },
         psm(),
         lispsm(None),
         FocusSettings { method: Method::Tsm, splits: SplitSettings { count: 4, ..Default::default() }, ..Default::default() },
@@ -671,7 +678,7 @@ fn predicted_aliasing_matches_the_closed_form_over_a_floor() {
         let (size, texels) = (720.0, 1024.0);
         let texel = (4.0 / (m.row(0).truncate().length() * m.row(1).truncate().length())).sqrt() / texels;
         let pixel = 2.0 * h * (0.5 * fovy).tan() / size;
-        let p = predict_aliasing(map, &cam, &scene).unwrap().in_pixels(size, size, texels);
+        let p = predict_aliasing(map, &cam, &scene, &[]).unwrap().in_pixels(size, size, texels);
         let want = texel / pixel;
         assert!((p.max / want - 1.0).abs() < 1e-9, "h {h}: predicted {p:?}, closed form {want}");
         assert_eq!((p.near, p.depths[0]), (p.max, h));
@@ -679,6 +686,48 @@ fn predicted_aliasing_matches_the_closed_form_over_a_floor() {
         let mut empty = FocusResult::new();
         let away = Camera { eye: DVec3::new(0.0, 50.0, 0.0), forward: DVec3::Y, up: DVec3::Z, ..cam };
         fit(&away, &Light::directional(DVec3::NEG_Y).unwrap(), &scene, &s, &mut empty).unwrap();
-        assert!(!empty.maps().is_empty() && empty.maps().iter().all(|m| !m.is_active() && predict_aliasing(m, &away, &scene).is_none()));
+        assert!(
+            !empty.maps().is_empty() && empty.maps().iter().all(|m| !m.is_active() && predict_aliasing(m, &away, &scene, &[]).is_none())
+        );
     }
+}
+
+/// With receiver boxes the prediction's receivers are on them: a ground slab
+/// whose top is 2 below the camera, in a scene box whose floor is lower. The
+/// closed form (as above) holds at the slab's top with its boxes, at the
+/// box's floor without; a ray that meets no box (into the sky) has no
+/// receiver, and boxes the camera stands in are seen from inside.
+#[test]
+fn predicted_aliasing_takes_receivers_on_their_boxes() {
+    let scene = Aabb::new(DVec3::new(-50.0, -6.0, -50.0), DVec3::new(50.0, 10.0, 50.0)).unwrap();
+    let slab = Aabb::new(DVec3::new(-50.0, -6.0, -50.0), DVec3::new(50.0, 0.0, 50.0)).unwrap();
+    let h = 2.0;
+    let cam = Camera { eye: DVec3::new(1.0, h, -2.0), forward: DVec3::NEG_Y, up: DVec3::Z, fovy: 0.8, aspect: 1.0, near: 0.1, far: 100.0 };
+    let s = FocusSettings { method: Method::Uniform, ..FocusSettings::default() };
+    let out = fit1(&cam, &Light::directional(DVec3::NEG_Y).unwrap(), &scene, &s);
+    let map = &out.maps()[0];
+    let m = map.fit.clip_from_world;
+    let (size, texels) = (720.0, 1024.0);
+    let texel = (4.0 / (m.row(0).truncate().length() * m.row(1).truncate().length())).sqrt() / texels;
+    let closed_form = |distance: f64| texel / (2.0 * distance * (0.5 * cam.fovy).tan() / size);
+    for (boxes, distance) in [(&[slab][..], h), (&[][..], h + 6.0), (&[slab, scene][..], h)] {
+        let p = predict_aliasing(map, &cam, &scene, boxes).unwrap().in_pixels(size, size, texels);
+        assert!((p.max / closed_form(distance) - 1.0).abs() < 1e-9, "{boxes:?}: predicted {p:?}, closed form {}", closed_form(distance));
+        assert_eq!(p.depths[0], distance);
+    }
+    // Looking up at a roof box lit from below: its underside at 8 − h; a
+    // ray that meets no box has no receiver.
+    let up = Camera { forward: DVec3::Y, ..cam };
+    let roof = Aabb::new(DVec3::new(-50.0, 8.0, -50.0), DVec3::new(50.0, 9.0, 50.0)).unwrap();
+    let aside = Aabb::new(DVec3::new(40.0, 8.0, 40.0), DVec3::new(50.0, 9.0, 50.0)).unwrap();
+    let below = Light::directional(DVec3::Y).unwrap();
+    let o = fit1(&up, &below, &scene, &s);
+    assert_eq!(predict_aliasing(&o.maps()[0], &up, &scene, &[roof]).unwrap().depths[0], 8.0 - h);
+    assert_eq!(predict_aliasing(&o.maps()[0], &up, &scene, &[aside]), None);
+    let room = Aabb::new(DVec3::new(-50.0, -1.0, -50.0), DVec3::new(50.0, 9.0, 50.0)).unwrap();
+    let p = predict_aliasing(map, &cam, &scene, &[room]).unwrap();
+    assert_eq!(p.depths[0], h + 1.0);
+    // Bad boxes are refused with the setting named.
+    let bad = Aabb { min: DVec3::ONE, max: DVec3::ZERO };
+    assert!(matches!(ReceiverBoxes::new(&[slab, bad]), Err(FocusError::InvalidSettings { what: "receivers", .. })));
 }

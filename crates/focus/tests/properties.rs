@@ -168,6 +168,26 @@ fn outside_in_f32(planes: &[DVec4], b: &Aabb) -> bool {
 
 /// 128 cases per property in the test suite; `PROPTEST_CASES` overrides it
 /// for longer runs.
+/// Receiver hints as fractions of the scene box per axis: none, or up to
+/// three boxes whose sides fall on the box's own faces, its middle, beyond
+/// it or inside it, flat slabs (a floor) among them.
+fn receiver_hint_strategy() -> impl Strategy<Value = Vec<[[f64; 2]; 3]>> {
+    let f = prop_oneof![Just(0.0), Just(1.0), Just(0.5), Just(-0.25), Just(1.25), 0.0..1.0f64];
+    let side = (f.clone(), f).prop_map(|(a, b): (f64, f64)| [a.min(b), a.max(b)]);
+    prop_oneof![Just(Vec::new()), prop::collection::vec([side.clone(), side.clone(), side], 1..=3)]
+}
+
+/// The boxes of `hint` in `scene`.
+fn hint_boxes(scene: &Aabb, hint: &[[[f64; 2]; 3]]) -> Vec<Aabb> {
+    let at = |k: usize, t: f64| scene.min[k] + (scene.max[k] - scene.min[k]) * t;
+    hint.iter()
+        .map(|h| Aabb {
+            min: DVec3::new(at(0, h[0][0]), at(1, h[1][0]), at(2, h[2][0])),
+            max: DVec3::new(at(0, h[0][1]), at(1, h[1][1]), at(2, h[2][1])),
+        })
+        .collect()
+}
+
 fn config() -> ProptestConfig {
     let cases = std::env::var("PROPTEST_CASES").ok().and_then(|s| s.parse().ok()).unwrap_or(128);
     ProptestConfig { cases, max_shrink_iters: 200, ..ProptestConfig::default() }
@@ -379,8 +399,12 @@ proptest! {
     /// depth included unless the depth is clamped too. Their depth and `w`
     /// rows are the body fit's own.
     #[test]
-    fn receiver_footprint_holds_the_receivers_and_their_light_rays((cam, scene, light) in frame_strategy(), s in settings_strategy(), margin in prop_oneof![Just(0.0), Just(2.0), Just(17.5)], clamp in any::<bool>()) {
-        let s = FocusSettings { stable: false, ..s };
+    fn receiver_footprint_holds_the_receivers_and_their_light_rays((cam, scene, light) in frame_strategy(), s in settings_strategy(), margin in prop_oneof![Just(0.0), Just(2.0), Just(17.5)], clamp in any::<bool>(), hint in receiver_hint_strategy()) {
+        // With receiver boxes, the receivers promised are those inside a
+        // box (the body fit gets them too: optimal planes follow them).
+        let boxes = hint_boxes(&scene, &hint);
+        let receivers = ReceiverBoxes::new(&boxes).map_err(|e| TestCaseError::fail(format!("{e}")))?;
+        let s = FocusSettings { stable: false, receivers, ..s };
         let r = FocusSettings { footprint: Footprint::Receivers { margin_texels: margin }, depth_clamp: clamp, ..s };
         let (mut a, mut b) = (FocusResult::new(), FocusResult::new());
         fit(&cam, &light, &scene, &s, &mut a).map_err(|e| TestCaseError::fail(format!("{e}")))?;
@@ -409,7 +433,7 @@ proptest! {
             let z = (cam.near + (cam.far - cam.near) * (k as f64 / 63.0)).clamp(cam.near, cam.far);
             let p = cam.eye + basis.forward * z + basis.right * (fx * z * t * cam.aspect * 0.999) + basis.up * (fy * z * t * 0.999);
             let lit = |q: DVec3| match light { Light::Spot { frustum, .. } => frustum.contains(q), _ => true };
-            if !scene.contains(p) || !lit(p) {
+            if !scene.contains(p) || !lit(p) || !(boxes.is_empty() || boxes.iter().any(|b| b.contains(p))) {
                 continue;
             }
             let i = (0..s.splits.count).find(|&i| d[i] <= z && z <= d[i + 1] && d[i] < d[i + 1]).unwrap();
@@ -500,7 +524,7 @@ proptest! {
         let (da, db) = (a.split_depths(), b.split_depths());
         prop_assert_eq!((da.len(), da[0], da[count]), (db.len(), db[0], db[count]));
         prop_assert!(db.windows(2).all(|w| w[0] <= w[1]), "{:?}", db);
-        let worst = |r: &FocusResult| r.maps().iter().filter_map(|m| predict_aliasing(m, &cam, &scene)).fold(0.0f64, |w, p| w.max(p.max));
+        let worst = |r: &FocusResult| r.maps().iter().filter_map(|m| predict_aliasing(m, &cam, &scene, &[])).fold(0.0f64, |w, p| w.max(p.max));
         prop_assert!(worst(&b) <= worst(&a), "optimal {} > practical {}: {:?} vs {:?}", worst(&b), worst(&a), db, da);
     }
 

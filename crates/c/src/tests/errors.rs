@@ -13,6 +13,8 @@ const NULL: c_int = SfStatus::SF_ERR_NULL_POINTER as c_int;
 const INVALID: c_int = SfStatus::SF_ERR_INVALID_INPUT as c_int;
 const SMALL: c_int = SfStatus::SF_ERR_BUFFER_TOO_SMALL as c_int;
 
+static NAN_BOX: [SfAabb; 1] = [SfAabb { min: [0.0; 3], max: [1.0, f64::NAN, 1.0] }];
+
 fn sun() -> SfLight {
     lights()[0]
 }
@@ -58,6 +60,9 @@ fn null_pointers_are_reported_not_dereferenced() {
         assert_eq!(sf_fit(ctx.0, &cam, &light, &box_, ptr::null(), m, 4, &mut n), NULL);
         assert_eq!(sf_fit(ctx.0, &cam, &light, &box_, &s, ptr::null_mut(), 4, &mut n), NULL);
         assert_eq!(ctx.error(), "maps is NULL");
+        let no_boxes = SfSettings { receiver_count: 2, ..s };
+        assert_eq!(sf_fit(ctx.0, &cam, &light, &box_, &no_boxes, m, 4, &mut n), NULL);
+        assert_eq!(ctx.error(), "settings.receivers is NULL");
         assert_eq!(sf_fit(ctx.0, &cam, &light, &box_, &s, m, 4, ptr::null_mut()), NULL);
         assert_eq!(sf_prepare_view(ctx.0, ptr::null(), &s), NULL);
         assert_eq!(sf_fit_light(ctx.0, &light, &box_, m, 4, ptr::null_mut()), NULL);
@@ -103,18 +108,23 @@ fn invalid_inputs_are_errors_with_messages() {
                 s.split_scheme = 4;
                 s.stable = 1;
             }),
-            "optimal placement moves the split planes",
+            "moves the split planes with the view",
         ),
         ("warp direction 2", Box::new(|_, _, _, s| s.lispsm_warp = 2), "not an SfWarpDirection value"),
         ("point mode 9", Box::new(|_, _, _, s| s.point_mode = 9), "not an SfPointMode value"),
         ("orientation -3", Box::new(|_, _, _, s| s.orientation = -3), "not an SfOrientation value"),
         ("0 splits", Box::new(|_, _, _, s| s.splits = 0), "invalid setting splits.count"),
         ("9 splits", Box::new(|_, _, _, s| s.splits = 9), "invalid setting splits.count"),
-        ("lambda 2", Box::new(|_, _, _, s| s.lambda = 2.0), "invalid setting splits.lambda"),
+        (
+            "lambda 2",
+            Box::new(|_, _, _, s| (s.split_scheme, s.lambda) = (SfSplitScheme::SF_SPLIT_PRACTICAL as c_int, 2.0)),
+            "invalid setting splits.lambda",
+        ),
         ("resolution 2", Box::new(|_, _, _, s| s.resolution = 2), "invalid setting resolution"),
         ("NaN f32 origin", Box::new(|_, _, _, s| s.f32_origin[0] = f64::NAN), "invalid setting f32_origin"),
         ("negative psm near", Box::new(|_, _, _, s| s.psm_near = -1.0), "invalid setting psm.near"),
         ("NaN light_near_fixed", Box::new(|_, _, _, s| s.light_near_fixed = f64::NAN), "invalid setting light_near"),
+        ("a NaN receiver box", Box::new(|_, _, _, s| (s.receivers, s.receiver_count) = (NAN_BOX.as_ptr(), 1)), "invalid setting receivers"),
         (
             "visible depth 5..1",
             Box::new(|_, _, _, s| (s.visible_depth_min, s.visible_depth_max) = (5.0, 1.0)),

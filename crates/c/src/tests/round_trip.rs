@@ -4,7 +4,7 @@ use super::common::*;
 use crate::*;
 use shadowfocus_focus::{
     caster_planes, cull_casters, fit, fit_prepared_with_state, ClipConvention, CubeFace, DepthRange, DepthTest, FitState, FocusResult,
-    FocusSettings, Footprint, Method, PointMode, PreparedView, ShadowMap, UvOrigin,
+    FocusSettings, Footprint, Method, PointMode, PreparedView, ReceiverBoxes, ShadowMap, SplitScheme, UvOrigin,
 };
 use shadowfocus_geom::{Aabb, Body, Focuser, Frustum};
 use std::ffi::c_int;
@@ -136,6 +136,43 @@ fn sf_fit_gives_the_maps_of_fit_bit_for_bit() {
     assert!(compared > 400 && active > 300 && cube >= 6 * 8, "{compared} maps, {active} active, {cube} cube faces");
 }
 
+/// Receiver boxes through C: the maps of `fit` with the same boxes, bit for
+/// bit, with optimal placement and receiver footprints (which use them),
+/// for a few boxes and for more than the capacity (merged alike).
+#[test]
+fn receiver_boxes_give_the_maps_of_fit() {
+    let ctx = Ctx::new();
+    let mut out = FocusResult::new();
+    let mut maps = vec![canary_map(); SF_MAX_MAPS as usize];
+    let sc = rust_scene();
+    let at = |k: usize, n: usize| {
+        let t = k as f64 / n as f64;
+        let lo = sc.min + (sc.max - sc.min) * glam::DVec3::new(t, 0.0, 1.0 - t) * 0.9;
+        SfAabb { min: lo.to_array(), max: (lo + (sc.max - sc.min) * 0.1 * glam::DVec3::new(1.0, 0.02 + t, 1.0)).to_array() }
+    };
+    for n in [1, 3, 40] {
+        let boxes: Vec<SfAabb> = (0..n).map(|k| at(k, n)).collect();
+        let rust: Vec<Aabb> = boxes.iter().map(|b| Aabb { min: b.min.into(), max: b.max.into() }).collect();
+        let receivers = ReceiverBoxes::new(&rust).unwrap();
+        assert!(receivers.as_slice().len() == n.min(SF_MAX_RECEIVER_BOXES as usize) || n > SF_MAX_RECEIVER_BOXES as usize);
+        for k in [0, 120] {
+            let cam = camera(k);
+            let mut s = settings(SfMethod::SF_METHOD_LISPSM, 4);
+            (s.split_scheme, s.receiver_footprint, s.receivers, s.receiver_count) =
+                (SfSplitScheme::SF_SPLIT_OPTIMAL as c_int, 1, boxes.as_ptr(), n as u32);
+            let mut rs = rust_settings(SfMethod::SF_METHOD_LISPSM, 4);
+            (rs.splits.scheme, rs.footprint, rs.receivers) = (SplitScheme::Optimal, Footprint::RECEIVERS, receivers);
+            let light = lights()[0];
+            fit(&rust_camera(&cam), &rust_light(&light), &sc, &rs, &mut out).unwrap();
+            let (rc, m) = ctx.fit(&cam, &light, &scene(), &s, &mut maps);
+            assert_eq!((rc, m), (0, out.maps().len()), "{n} boxes, frame {k}: {}", ctx.error());
+            for (i, (c, r)) in maps.iter().zip(out.maps()).enumerate() {
+                assert_same(c, r, &format!("{n} boxes, frame {k}, map {i}"));
+            }
+        }
+    }
+}
+
 /// One prepared view, two lights: the maps of sf_fit for each.
 #[test]
 fn sf_fit_light_from_a_prepared_view_gives_the_maps_of_sf_fit() {
@@ -170,8 +207,10 @@ fn sf_fit_light_held_carries_the_state_of_the_library() {
     let ctx = Ctx::new();
     let methods = [SfMethod::SF_METHOD_UNIFORM, SfMethod::SF_METHOD_LISPSM, SfMethod::SF_METHOD_TSM];
     for (stable, method) in [0, 1].into_iter().flat_map(|s| methods.map(|m| (s, m))) {
-        let s = SfSettings { stable, ..settings(method, 2) };
-        let rs = FocusSettings { stable: stable != 0, ..rust_settings(method, 2) };
+        // Stable maps need planes that hold still: the practical ones.
+        let s = SfSettings { stable, split_scheme: SfSplitScheme::SF_SPLIT_PRACTICAL as c_int, ..settings(method, 2) };
+        let mut rs = FocusSettings { stable: stable != 0, ..rust_settings(method, 2) };
+        rs.splits.scheme = SplitScheme::Practical { lambda: 0.5 };
         let mut held_warps = 0;
         for light in lights() {
             let junk = SfWarpHold { direction: 3, strength: 9, extent: [1, 2], apex: [5, 6] };
@@ -280,6 +319,7 @@ fn view_body_and_culling_match_the_library() {
 fn constants_match_the_library() {
     use shadowfocus_focus::{Notes, Skipped, MAX_MAPS, MAX_SPLITS};
     assert_eq!(SF_MAX_SPLITS as usize, MAX_SPLITS);
+    assert_eq!(SF_MAX_RECEIVER_BOXES as usize, shadowfocus_focus::MAX_RECEIVER_BOXES);
     assert_eq!(SF_MAX_MAPS as usize, MAX_MAPS);
     assert_eq!(SF_MAX_BODY_VERTICES as usize, shadowfocus_geom::MAX_VERTICES);
     assert_eq!(SF_MAX_CASTER_PLANES as usize, shadowfocus_focus::MAX_REGION_PLANES);
@@ -311,6 +351,7 @@ fn constants_match_the_library() {
 #[test]
 fn default_settings_are_the_library_defaults() {
     let s = settings(SfMethod::SF_METHOD_UNIFORM, 1);
-    assert_eq!(crate::convert::settings(&s).unwrap(), shadowfocus_focus::FocusSettings::default());
+    // SAFETY: no receiver boxes.
+    assert_eq!(unsafe { crate::convert::settings(&s) }.unwrap(), shadowfocus_focus::FocusSettings::default());
     assert_eq!((s.depth_zero_to_one, s.reversed_z, s.uv_origin_top_left), (1, 0, 1));
 }
