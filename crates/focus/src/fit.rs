@@ -6,12 +6,13 @@ use crate::frame::{perpendicular_hint, tangent_frame};
 use crate::methods::{fit_body, light_point, Fitted, SplitView};
 use crate::placement::{self, Planes};
 use crate::project::{f32_matrix, texel_size};
+use crate::receiver_rays::ReceiverModel;
 use crate::receivers::fit_receivers;
 use crate::result::{CubeFace, FocusResult, MapFit, MapState, Notes, ShadowMap, Skipped};
 use crate::settings::{FocusSettings, Footprint, Method, PointMode, SplitScheme};
 use crate::state::{FitState, Held};
 use crate::view::PreparedView;
-use crate::view_aliasing::{nearest_receiver, receiver_aliasing, ReceiverModel};
+use crate::view_aliasing::{nearest_receiver, receiver_aliasing};
 use glam::DVec3;
 use shadowfocus_geom::{Aabb, Body, Camera, Focuser, Frustum, Light, MAX_VERTICES, ROUNDING_ULPS};
 
@@ -92,11 +93,9 @@ fn fit_held(view: &PreparedView, light: &Light, scene: &Aabb, out: &mut FocusRes
     light.validate()?;
     if view.settings.splits.scheme == SplitScheme::Optimal && view.splits > 1 {
         let mut planes = view.depths;
-        let (near, far) = (view.camera.near, view.camera.far);
         let model = ReceiverModel::new(&scene, view.settings.receivers.as_slice());
-        let receivers_log =
-            nearest_receiver(&view.camera, &view.basis, light, model).and_then(|lo| placement::log_from(near, lo, far, view.splits));
-        placement::place(&mut planes, receivers_log.as_ref(), view.splits, |planes| {
+        let lo = nearest_receiver(&view.camera, &view.basis, light, model);
+        placement::place(&mut planes, lo, view.splits, |planes| {
             out.clear();
             fit_splits(out, view, planes, light, &scene)?;
             Ok(receiver_aliasing(out.maps(), out.split_depths(), &view.camera, &view.basis, light, model).map(|a| a.map(|a| a.max)))

@@ -103,6 +103,7 @@ mod placement;
 mod predict;
 mod project;
 mod receiver_boxes;
+mod receiver_rays;
 mod receivers;
 mod result;
 #[cfg(feature = "serde")]

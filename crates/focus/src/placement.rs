@@ -5,7 +5,8 @@
 //! split's, so the planes are best where every split predicts the same
 //! maximum `a_i`. Write split `i`'s length in log depth `ℓ_i = ln(C_{i+1}/C_i)`
 //! (the logarithmic scheme makes them equal; the logarithmic bound is
-//! reached by texels spread evenly in `ln z`). Modelling each split's
+//! reached by texels spread evenly in `ln z`), the first split's from the
+//! nearest receiver rather than `near`. Modelling each split's
 //! maximum as `a_i ≈ c_i ℓ_i²`, the planes with equal maxima and the same
 //! total `L = ln(f/n)` are
 //!
@@ -56,21 +57,20 @@ pub(crate) type SplitAliasing = [Option<f64>; MAX_SPLITS];
 
 /// Moves the `m` splits' inner planes toward equal predicted aliasing,
 /// from the better (by the prediction) of the planes in `planes` and the
-/// second start `other` (same outer planes), into `planes`. `fit` fits
-/// every split to the planes it is given and predicts each split's maximum;
-/// when this returns, the last call of `fit` was with the planes left in
-/// `planes`.
+/// logarithmic planes from the nearest receiver `lo` ([`log_from`]), into
+/// `planes`. `fit` fits every split to the planes it is given and predicts
+/// each split's maximum; when this returns, the last call of `fit` was with
+/// the planes left in `planes`.
 pub(crate) fn place(
     planes: &mut Planes,
-    other: Option<&Planes>,
+    lo: Option<f64>,
     m: usize,
     mut fit: impl FnMut(&Planes) -> Result<SplitAliasing, FocusError>,
 ) -> Result<(), FocusError> {
     let first = planes[1];
     let mut a = fit(planes)?;
     let mut best = (*planes, worst(&a, m));
-    let other = other.map(|o| {
-        let mut o = *o;
+    let other = lo.and_then(|lo| log_from(planes[0], lo, planes[m], m)).map(|mut o| {
         o[1] = o[1].min(first);
         o
     });
@@ -86,7 +86,7 @@ pub(crate) fn place(
     }
     let mut last_is_best = true;
     for _ in 0..PLACEMENT_ROUNDS {
-        if !rebalance(planes, m, &a, first) {
+        if !rebalance(planes, m, &a, first, lo) {
             break;
         }
         a = fit(planes)?;
@@ -126,16 +126,24 @@ fn worst(a: &SplitAliasing, m: usize) -> f64 {
     a[..m].iter().flatten().fold(0.0, |w: f64, &x| if x.is_nan() { f64::INFINITY } else { w.max(x) })
 }
 
-/// One round of the update above, the first plane at most `first`;
+/// One round of the update above, the first plane at most `first`, the
+/// first split's length counted from the nearest receiver `lo` where that
+/// lies inside the split: its texels go to its receivers, and counting its
+/// length from `near` would weigh the empty space in front of them. (A
+/// first split that ends before `lo` has no prediction and holds; it can
+/// only be the start's, as a round keeps its far plane beyond `lo`.)
 /// `false` when it has nothing to move.
-fn rebalance(planes: &mut Planes, m: usize, a: &SplitAliasing, first: f64) -> bool {
+fn rebalance(planes: &mut Planes, m: usize, a: &SplitAliasing, first: f64, lo: Option<f64>) -> bool {
     let (near, far) = (planes[0], planes[m]);
-    let total = (far / near).ln();
+    let base = lo.filter(|&l| l > near && l < planes[1]).unwrap_or(near);
+    let total = (far / base).ln();
     let mut len = [0.0; MAX_SPLITS];
+    for i in 0..m {
+        len[i] = (planes[i + 1] / if i == 0 { base } else { planes[i] }).ln();
+    }
     // Splits with a prediction share what the others leave.
     let (mut share, mut weight, mut judged) = (total, 0.0, 0);
     for i in 0..m {
-        len[i] = (planes[i + 1] / planes[i]).ln();
         match a[i] {
             Some(x) if x > 0.0 && len[i] > 0.0 => {
                 weight += len[i] / x.sqrt();
@@ -166,12 +174,12 @@ fn rebalance(planes: &mut Planes, m: usize, a: &SplitAliasing, first: f64) -> bo
     if !(moved > SETTLED * total) {
         return false;
     }
-    for i in 1..m {
+    planes[1] = (base * new[0].exp()).clamp(near, far).min(first);
+    for i in 2..m {
         // NOTE: each plane from the near end keeps relative precision; the
         // far plane stays exactly `far` and the order is kept by the clamp.
         planes[i] = (planes[i - 1] * new[i - 1].exp()).clamp(planes[i - 1], far);
     }
-    planes[1] = planes[1].min(first);
     true
 }
 
@@ -208,6 +216,29 @@ mod tests {
         assert_eq!(rounds, 2);
     }
 
+    /// With the nearest receiver known, the first split's maximum follows
+    /// its length from that receiver, not from `near`: the model is solved
+    /// with the empty space in front of the receivers left out, and the
+    /// first plane stays at most the start's.
+    #[test]
+    fn the_first_split_is_measured_from_the_nearest_receiver() {
+        let (c, lo) = ([40.0, 1.0, 1.5, 2.0], 0.5);
+        let mut planes = [0.0; MAX_SPLITS + 1];
+        planes[..5].copy_from_slice(&[0.1, 1.0, 10.0, 100.0, 1000.0]);
+        let model = |p: &Planes| {
+            let mut a = [None; MAX_SPLITS];
+            for i in 0..4 {
+                a[i] = Some(c[i] * (p[i + 1] / p[i].max(lo)).ln().powi(2));
+            }
+            a
+        };
+        place(&mut planes, Some(lo), 4, |p| Ok(model(p))).unwrap();
+        let a = model(&planes);
+        let (l, h) = a[..4].iter().flatten().fold((f64::INFINITY, 0.0f64), |(l, h), &x| (l.min(x), h.max(x)));
+        assert!(h / l < 1.0 + 1e-9, "{a:?}");
+        assert!(planes[1] > lo && planes[1] <= 1.0, "{planes:?}");
+    }
+
     /// A round that predicts worse than an earlier one is undone: the
     /// planes kept are the best seen, and the last fit is with them.
     #[test]
@@ -233,11 +264,12 @@ mod tests {
         let mut planes = [0.0; MAX_SPLITS + 1];
         planes[..3].copy_from_slice(&[1.0, 50.0, 100.0]);
         let other = log_from(1.0, 4.0, 100.0, 2).unwrap();
+        let lo = Some(4.0);
         assert_eq!((other[0], other[2]), (1.0, 100.0));
         assert!((other[1] - 20.0).abs() < 1e-12, "{other:?}");
         let mut last = planes;
         // Worse the farther the inner plane is from 20, and balanced there.
-        place(&mut planes, Some(&other), 2, |p| {
+        place(&mut planes, lo, 2, |p| {
             last = *p;
             let off = (p[1] / other[1]).ln().abs();
             Ok([Some(1.0 + off), Some(1.0 + off), None, None, None, None, None, None])

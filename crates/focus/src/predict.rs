@@ -31,6 +31,7 @@
 
 use crate::project::image_area_scale;
 use crate::project::post_perspective;
+use crate::receiver_rays::{clip_ray, ReceiverModel};
 use crate::split_view::SplitView;
 use glam::{DMat4, DVec3, DVec4};
 use shadowfocus_geom::Body;
@@ -95,7 +96,8 @@ impl Predicted {
 }
 
 impl Samples {
-    /// Samples of the split of `sv` inside the bounding box of `body`.
+    /// Samples of the split of `sv` inside the bounding box of `body`, or
+    /// on the receiver boxes of its settings where they give any.
     pub fn new(sv: &SplitView, body: &Body) -> Samples {
         let mut s = Samples {
             pts: [DVec3::ZERO; MAX_SAMPLES],
@@ -107,6 +109,7 @@ impl Samples {
             len: 0,
         };
         let (lo, hi) = bounds(body.vertices());
+        let receivers = sv.settings.receivers.as_slice();
         let cam = sv.camera;
         let b = &sv.basis;
         let ty = (0.5 * cam.fovy).tan();
@@ -115,9 +118,17 @@ impl Samples {
             for gx in [-1.0, 0.0, 1.0] {
                 // The ray eye + z·d, z the view depth (d·forward = 1).
                 let d = b.forward + b.right * (gx * tx) + b.up * (gy * ty);
-                let Some(exit) = clip_ray(cam.eye, d, cam.near, cam.far, lo, hi) else { continue };
-                s.pts[s.len] = cam.eye + d * exit.depth;
-                s.face[s.len] = exit.axis.map(|k| DVec3::AXES[k]);
+                let (z, face) = if receivers.is_empty() {
+                    let Some(exit) = clip_ray(cam.eye, d, cam.near, cam.far, lo, hi) else { continue };
+                    (exit.depth, exit.axis)
+                } else {
+                    // The engine's receiver boxes: where the ray first meets
+                    // one in the split, nothing where it meets none.
+                    let Some(h) = ReceiverModel::Boxes(receivers).hit(cam.eye, d, cam.near, cam.far) else { continue };
+                    (h.z, Some(h.axis))
+                };
+                s.pts[s.len] = cam.eye + d * z;
+                s.face[s.len] = face.map(|k| DVec3::AXES[k]);
                 s.len += 1;
             }
         }
@@ -179,72 +190,4 @@ fn bounds(pts: &[DVec3]) -> (DVec3, DVec3) {
         hi = hi.max(*p);
     }
     (lo, hi)
-}
-
-/// Where a ray leaves a box.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct Exit {
-    /// The view depth where the ray enters the box (or `near`).
-    pub entry: f64,
-    /// The axis of the box face it enters through; `None` where it is
-    /// inside at `near` already.
-    pub entry_axis: Option<usize>,
-    /// The view depth of the exit point.
-    pub depth: f64,
-    /// The axis of the box face it leaves through; `None` where the ray
-    /// reaches `far` first.
-    pub axis: Option<usize>,
-}
-
-/// Where `eye + z·d`, `z ∈ [near, far]`, leaves the box `[lo, hi]` (slab
-/// clipping); `None` where it never is inside.
-pub(crate) fn clip_ray(eye: DVec3, d: DVec3, near: f64, far: f64, lo: DVec3, hi: DVec3) -> Option<Exit> {
-    let (mut z0, mut z1) = (near, far);
-    let (mut entry_axis, mut axis) = (None, None);
-    for k in 0..3 {
-        let (e, dk) = (eye[k], d[k]);
-        if dk == 0.0 {
-            if e < lo[k] || e > hi[k] {
-                return None;
-            }
-            continue;
-        }
-        let (a, b) = ((lo[k] - e) / dk, (hi[k] - e) / dk);
-        if a.min(b) > z0 {
-            z0 = a.min(b);
-            entry_axis = Some(k);
-        }
-        if a.max(b) < z1 {
-            z1 = a.max(b);
-            axis = Some(k);
-        }
-    }
-    (z0 <= z1 && z0 > 0.0).then_some(Exit { entry: z0, entry_axis, depth: z1, axis })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn ray_clipped_to_a_box() {
-        let eye = DVec3::ZERO;
-        let d = DVec3::new(0.0, -0.5, 1.0);
-        let (lo, hi) = (DVec3::new(-10.0, -2.0, -10.0), DVec3::new(10.0, -1.0, 10.0));
-        // The box y ∈ [−2, −1] is crossed between z = 2 and z = 4, left
-        // through its face y = −2.
-        assert_eq!(clip_ray(eye, d, 0.1, 100.0, lo, hi), Some(Exit { entry: 2.0, entry_axis: Some(1), depth: 4.0, axis: Some(1) }));
-        // Far inside the box: the ray ends there, on no face.
-        assert_eq!(clip_ray(eye, d, 0.1, 3.0, lo, hi), Some(Exit { entry: 2.0, entry_axis: Some(1), depth: 3.0, axis: None }));
-        // From inside: no face entered.
-        let inside = (DVec3::splat(-10.0), DVec3::splat(10.0));
-        assert_eq!(
-            clip_ray(eye, d, 0.1, 100.0, inside.0, inside.1),
-            Some(Exit { entry: 0.1, entry_axis: None, depth: 10.0, axis: Some(2) })
-        );
-        // Beyond far: nothing.
-        assert_eq!(clip_ray(eye, d, 0.1, 1.5, lo, hi), None);
-        // Parallel to a slab and outside it.
-        assert_eq!(clip_ray(eye, DVec3::Z, 0.1, 10.0, DVec3::new(1.0, -1.0, 0.0), DVec3::new(2.0, 1.0, 5.0)), None);
-    }
 }

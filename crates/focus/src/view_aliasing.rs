@@ -22,73 +22,12 @@
 //! walls. Casters (and a terrain above the box's floor) stand in front of
 //! those faces; they are the part the prediction misses.
 
-use crate::predict::clip_ray;
 use crate::project::{image_area_scale, post_perspective};
+use crate::receiver_rays::{Hit, ReceiverModel};
 use crate::result::{CubeFace, MapState, ShadowMap};
 use crate::MAX_SPLITS;
 use glam::{DMat4, DVec3};
 use shadowfocus_geom::{Aabb, Camera, CameraBasis, Light};
-
-/// Where the camera rays find their receivers: where they leave the scene
-/// box, or where they first meet a receiver box.
-#[derive(Clone, Copy)]
-pub(crate) enum ReceiverModel<'a> {
-    SceneBox(&'a Aabb),
-    Boxes(&'a [Aabb]),
-}
-
-impl<'a> ReceiverModel<'a> {
-    /// The receiver boxes where there are any, else the scene box.
-    pub fn new(scene: &'a Aabb, receivers: &'a [Aabb]) -> ReceiverModel<'a> {
-        if receivers.is_empty() {
-            ReceiverModel::SceneBox(scene)
-        } else {
-            ReceiverModel::Boxes(receivers)
-        }
-    }
-
-    /// The receiver on the ray `eye + z·d` (`d · forward = 1`) in
-    /// `[near, far]`; `None` where it has none.
-    fn hit(self, eye: DVec3, d: DVec3, near: f64, far: f64) -> Option<Hit> {
-        let face = |b: usize, axis: usize| Hit::face_id(b, axis, d);
-        match self {
-            ReceiverModel::SceneBox(b) => {
-                let exit = clip_ray(eye, d, near, far, b.min, b.max)?;
-                let axis = exit.axis?;
-                Some(Hit { z: exit.depth, axis, face: face(0, axis) })
-            }
-            // The face a ray enters a box through, or leaves it through
-            // where it starts inside; the nearest over the boxes.
-            ReceiverModel::Boxes(boxes) => boxes
-                .iter()
-                .enumerate()
-                .filter_map(|(k, b)| {
-                    let x = clip_ray(eye, d, near, far, b.min, b.max)?;
-                    let (z, axis) = match x.entry_axis {
-                        Some(axis) => (x.entry, axis),
-                        None => (x.depth, x.axis?),
-                    };
-                    Some(Hit { z, axis, face: face(k, axis) })
-                })
-                .min_by(|a, b| a.z.total_cmp(&b.z)),
-        }
-    }
-}
-
-/// A camera ray's receiver: its view depth, the axis of the box face it
-/// lies on, and which face of which box that is.
-#[derive(Clone, Copy)]
-struct Hit {
-    z: f64,
-    axis: usize,
-    face: usize,
-}
-
-impl Hit {
-    fn face_id(b: usize, axis: usize, d: DVec3) -> usize {
-        (b * 3 + axis) * 2 + usize::from(d[axis] > 0.0)
-    }
-}
 
 /// Camera rays per image side: the receivers are sampled on
 /// `RECEIVER_RAYS²` rays spread evenly over the image.
