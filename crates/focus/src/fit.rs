@@ -12,7 +12,7 @@ use crate::result::{CubeFace, FocusResult, MapFit, MapState, Notes, ShadowMap, S
 use crate::settings::{FocusSettings, Footprint, Method, PointMode, SplitScheme};
 use crate::state::{FitState, Held};
 use crate::view::PreparedView;
-use crate::view_aliasing::{nearest_receiver, receiver_aliasing};
+use crate::view_aliasing::{receiver_aliasing, ReceiverRays};
 use glam::DVec3;
 use shadowfocus_geom::{Aabb, Body, Camera, Focuser, Frustum, Light, MAX_VERTICES, ROUNDING_ULPS};
 
@@ -94,11 +94,11 @@ fn fit_held(view: &PreparedView, light: &Light, scene: &Aabb, out: &mut FocusRes
     if view.settings.splits.scheme == SplitScheme::Optimal && view.splits > 1 {
         let mut planes = view.depths;
         let model = ReceiverModel::new(&scene, view.settings.receivers.as_slice());
-        let lo = nearest_receiver(&view.camera, &view.basis, light, model);
-        placement::place(&mut planes, lo, view.splits, |planes| {
+        let rays = ReceiverRays::new(&view.camera, &view.basis, light, model);
+        placement::place(&mut planes, rays.nearest(), view.splits, |planes| {
             out.clear();
             fit_splits(out, view, planes, light, &scene)?;
-            Ok(receiver_aliasing(out.maps(), out.split_depths(), &view.camera, &view.basis, light, model).map(|a| a.map(|a| a.max)))
+            Ok(receiver_aliasing(out.maps(), out.split_depths(), &rays).map(|a| a.map(|a| a.max)))
         })?;
     } else {
         fit_splits(out, view, &view.depths, light, &scene)?;

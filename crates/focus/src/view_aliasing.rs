@@ -102,7 +102,8 @@ pub fn predict_aliasing(map: &ShadowMap, camera: &Camera, scene: &Aabb, receiver
     let basis = camera.basis().ok()?;
     let camera_clip = post_perspective(camera, &basis, 0.0);
     let mut out = None;
-    each_receiver(camera, &basis, &map.light, ReceiverModel::new(scene, receivers), &map.split_range, |_, p, n, z| {
+    let rays = ReceiverRays::new(camera, &basis, &map.light, ReceiverModel::new(scene, receivers));
+    rays.each(&map.split_range, |_, p, n, z| {
         if let Some(e) = aliasing_in(map, &camera_clip, p, n) {
             out = Some(out.map_or(ViewAliasing::one(e, z), |v: ViewAliasing| v.with(e, z)));
         }
@@ -113,116 +114,145 @@ pub fn predict_aliasing(map: &ShadowMap, camera: &Camera, scene: &Aabb, receiver
 /// Each split's predicted aliasing ([`predict_aliasing`]) of the maps
 /// `maps` fitted for the planes `depths`, `None` for a split no sample
 /// lands in.
-pub(crate) fn receiver_aliasing(
-    maps: &[ShadowMap],
-    depths: &[f64],
-    camera: &Camera,
-    basis: &CameraBasis,
-    light: &Light,
-    model: ReceiverModel,
-) -> [Option<ViewAliasing>; MAX_SPLITS] {
+pub(crate) fn receiver_aliasing(maps: &[ShadowMap], depths: &[f64], rays: &ReceiverRays) -> [Option<ViewAliasing>; MAX_SPLITS] {
     let mut out = [None; MAX_SPLITS];
-    let camera_clip = post_perspective(camera, basis, 0.0);
-    each_receiver(camera, basis, light, model, depths, |split, p, n, z| {
+    let camera_clip = post_perspective(rays.camera, rays.basis, 0.0);
+    rays.each(depths, |split, p, n, z| {
         let Some(e) = split_map(maps, split, p).and_then(|map| aliasing_in(map, &camera_clip, p, n)) else { return };
         out[split] = Some(out[split].map_or(ViewAliasing::one(e, z), |v: ViewAliasing| v.with(e, z)));
     });
     out
 }
 
-/// The view depth of the nearest receiver sample (see [`predict_aliasing`])
-/// in the camera's depth range; `None` without any.
-pub(crate) fn nearest_receiver(camera: &Camera, basis: &CameraBasis, light: &Light, model: ReceiverModel) -> Option<f64> {
-    let mut lo: Option<f64> = None;
-    each_receiver(camera, basis, light, model, &[camera.near, camera.far], |_, _, _, z| lo = Some(lo.map_or(z, |l| l.min(z))));
-    lo
+/// The receivers of `RECEIVER_RAYS²` camera rays spread evenly over the
+/// image, found once (they do not depend on the split planes) for every
+/// prediction of one fit.
+pub(crate) struct ReceiverRays<'a> {
+    camera: &'a Camera,
+    basis: &'a CameraBasis,
+    light: &'a Light,
+    model: ReceiverModel<'a>,
+    /// Per column of rays, each row's receiver.
+    hits: [[Option<Hit>; RECEIVER_RAYS]; RECEIVER_RAYS],
 }
 
-/// Calls `f(split, p, n, z)` for each receiver sample that faces `light`
-/// (point `p`, unit normal `n`, view depth `z`) in the depth range
-/// `depths[0]..=depths[m]`, `split` the index of the range
-/// `[depths[i], depths[i + 1]]` holding `z`.
-///
-/// The samples are the receivers of `RECEIVER_RAYS²` rays spread evenly
-/// over the image, and, in each column of rays, the points where a face
-/// the rays meet crosses a plane of `depths` (reported for the splits on
-/// both sides): a split's worst receiver on a face is mostly at one of its
-/// ends, which evenly spread rays miss where a split holds few rows of the
-/// image (far splits over a ground seen near the horizon).
-fn each_receiver(
-    camera: &Camera,
-    basis: &CameraBasis,
-    light: &Light,
-    model: ReceiverModel,
-    depths: &[f64],
-    mut f: impl FnMut(usize, DVec3, DVec3, f64),
-) {
-    let Some(m) = depths.len().checked_sub(1).filter(|&m| m > 0) else { return };
-    let ty = (0.5 * camera.fovy).tan();
-    let tx = ty * camera.aspect;
-    let g = |k: usize| 2.0 * k as f64 / (RECEIVER_RAYS - 1) as f64 - 1.0;
-    for i in 0..RECEIVER_RAYS {
-        let ray = |gy: f64| basis.forward + basis.right * (g(i) * tx) + basis.up * (gy * ty);
-        // The ray is clipped to the camera's whole range: a ray whose
-        // receiver lies beyond the planes has none in them.
-        let hit = |gy: f64| model.hit(camera.eye, ray(gy), camera.near, camera.far);
-        // The face's normal toward the camera: a receiver there that faces
-        // away from the light is in its own shadow, where no aliasing
-        // shows.
-        let mut sample = |split: usize, gy: f64, h: Hit| {
-            let d = ray(gy);
-            let n = DVec3::AXES[h.axis] * -d[h.axis].signum();
-            let p = camera.eye + d * h.z;
-            if n.dot(toward_light(light, p)) > 0.0 {
-                f(split, p, n, h.z);
+impl<'a> ReceiverRays<'a> {
+    /// Each ray's receiver, the ray clipped to the camera's whole range: a
+    /// ray whose receiver lies beyond the planes has none in them.
+    pub fn new(camera: &'a Camera, basis: &'a CameraBasis, light: &'a Light, model: ReceiverModel<'a>) -> ReceiverRays<'a> {
+        let mut rays = ReceiverRays { camera, basis, light, model, hits: [[None; RECEIVER_RAYS]; RECEIVER_RAYS] };
+        for i in 0..RECEIVER_RAYS {
+            for j in 0..RECEIVER_RAYS {
+                rays.hits[i][j] = rays.hit(i, ray_grid(j));
             }
-        };
-        let mut column = [None; RECEIVER_RAYS];
-        for (j, c) in column.iter_mut().enumerate() {
-            *c = hit(g(j));
-            if let Some(h) = *c {
-                if h.z >= depths[0] && h.z <= depths[m] {
-                    sample(depths[1..m].partition_point(|&c| c < h.z), g(j), h);
+        }
+        rays
+    }
+
+    /// The ray of column `i` at image height `gy` (`d · forward = 1`).
+    fn ray(&self, i: usize, gy: f64) -> DVec3 {
+        let ty = (0.5 * self.camera.fovy).tan();
+        let b = self.basis;
+        b.forward + b.right * (ray_grid(i) * ty * self.camera.aspect) + b.up * (gy * ty)
+    }
+
+    fn hit(&self, i: usize, gy: f64) -> Option<Hit> {
+        self.model.hit(self.camera.eye, self.ray(i, gy), self.camera.near, self.camera.far)
+    }
+
+    /// The view depth of the nearest ray's receiver that faces the light;
+    /// `None` without any.
+    pub fn nearest(&self) -> Option<f64> {
+        let mut lo: Option<f64> = None;
+        for (i, column) in self.hits.iter().enumerate() {
+            for (j, h) in column.iter().enumerate() {
+                if let Some(h) = h.filter(|h| self.facing(i, ray_grid(j), *h).is_some()) {
+                    lo = Some(lo.map_or(h.z, |l| l.min(h.z)));
                 }
             }
         }
-        // Along a column, `1/z` on a plane is affine in the image row: the
-        // rows where a face crosses each plane follow from two rays on it
-        // (interpolated between them, or extrapolated beyond them up to
-        // the next ray where that meets another face or nothing), and a ray
-        // there confirms the face.
-        for j in 0..RECEIVER_RAYS - 1 {
-            let same = |a: usize, b: usize| matches!((column[a], column[b]), (Some(x), Some(y)) if x.face == y.face);
-            let line = if same(j, j + 1) {
-                Some((j, j + 1))
-            } else if j > 0 && same(j - 1, j) {
-                Some((j - 1, j))
-            } else if j + 2 < RECEIVER_RAYS && same(j + 1, j + 2) {
-                Some((j + 1, j + 2))
-            } else {
-                None
-            };
-            let Some((a, b)) = line else { continue };
-            let (ha, hb) = (column[a].unwrap(), column[b].unwrap());
-            let (wa, wb) = (1.0 / ha.z, 1.0 / hb.z);
-            for (k, &zk) in depths.iter().enumerate() {
-                let gy = g(a) + (g(b) - g(a)) * (1.0 / zk - wa) / (wb - wa);
-                if !(gy > g(j) && gy < g(j + 1)) {
-                    continue;
+        lo
+    }
+
+    /// The receiver's point and its face's normal toward the camera, where
+    /// it faces the light: one turned away is in its own shadow, where no
+    /// aliasing shows.
+    fn facing(&self, i: usize, gy: f64, h: Hit) -> Option<(DVec3, DVec3)> {
+        let d = self.ray(i, gy);
+        let n = DVec3::AXES[h.axis] * -d[h.axis].signum();
+        let p = self.camera.eye + d * h.z;
+        (n.dot(toward_light(self.light, p)) > 0.0).then_some((p, n))
+    }
+
+    /// Calls `f(split, p, n, z)` for each receiver sample that faces `light`
+    /// (point `p`, unit normal `n`, view depth `z`) in the depth range
+    /// `depths[0]..=depths[m]`, `split` the index of the range
+    /// `[depths[i], depths[i + 1]]` holding `z`.
+    ///
+    /// The samples are the receivers of `RECEIVER_RAYS²` rays spread evenly
+    /// over the image, and, in each column of rays, the points where a face
+    /// the rays meet crosses a plane of `depths` (reported for the splits on
+    /// both sides): a split's worst receiver on a face is mostly at one of its
+    /// ends, which evenly spread rays miss where a split holds few rows of the
+    /// image (far splits over a ground seen near the horizon).
+    pub fn each(&self, depths: &[f64], mut f: impl FnMut(usize, DVec3, DVec3, f64)) {
+        let Some(m) = depths.len().checked_sub(1).filter(|&m| m > 0) else { return };
+        let mut sample = |split: usize, i: usize, gy: f64, h: Hit| {
+            if let Some((p, n)) = self.facing(i, gy, h) {
+                f(split, p, n, h.z);
+            }
+        };
+        for (i, column) in self.hits.iter().enumerate() {
+            for (j, h) in column.iter().enumerate() {
+                if let Some(h) = h.filter(|h| h.z >= depths[0] && h.z <= depths[m]) {
+                    sample(depths[1..m].partition_point(|&c| c < h.z), i, ray_grid(j), h);
                 }
-                // NOTE: `h.z` is `zk` up to rounding, either way: the sample
-                // goes to the splits on both sides of the plane whatever the
-                // last bit, so that a split predicts the same alone
-                // (`predict_aliasing`) as among the others.
-                let Some(h) = hit(gy).filter(|h| h.face == ha.face) else { continue };
-                for split in [k.wrapping_sub(1), k] {
-                    if split < m {
-                        sample(split, gy, h);
+            }
+            // Along a column, `1/z` on a plane is affine in the image row:
+            // the rows where a face crosses each plane follow from two rays
+            // on it (interpolated between them, or extrapolated beyond them
+            // up to the next ray where that meets another face or nothing),
+            // and a ray there confirms the face.
+            for j in 0..RECEIVER_RAYS - 1 {
+                let Some((a, b)) = face_line(column, j) else { continue };
+                let (wa, wb) = (1.0 / a.1.z, 1.0 / b.1.z);
+                for (k, &zk) in depths.iter().enumerate() {
+                    let gy = ray_grid(a.0) + (ray_grid(b.0) - ray_grid(a.0)) * (1.0 / zk - wa) / (wb - wa);
+                    if !(gy > ray_grid(j) && gy < ray_grid(j + 1)) {
+                        continue;
+                    }
+                    // NOTE: `h.z` is `zk` up to rounding, either way: the
+                    // sample goes to the splits on both sides of the plane
+                    // whatever the last bit, so that a split predicts the
+                    // same alone (`predict_aliasing`) as among the others.
+                    let Some(h) = self.hit(i, gy).filter(|h| h.face == a.1.face) else { continue };
+                    for split in [k.wrapping_sub(1), k] {
+                        if split < m {
+                            sample(split, i, gy, h);
+                        }
                     }
                 }
             }
         }
     }
+}
+
+/// The ray grid's image coordinate `k` of `RECEIVER_RAYS`, in `[−1, 1]`.
+fn ray_grid(k: usize) -> f64 {
+    2.0 * k as f64 / (RECEIVER_RAYS - 1) as f64 - 1.0
+}
+
+/// Two rows of `column` on one face that bound the gap between rows `j` and
+/// `j + 1` or extend into it: the gap's own ends, or the two rows before it
+/// or after it.
+fn face_line(column: &[Option<Hit>; RECEIVER_RAYS], j: usize) -> Option<((usize, Hit), (usize, Hit))> {
+    let same = |a: usize, b: usize| match (column[a], column[b]) {
+        (Some(x), Some(y)) if x.face == y.face => Some(((a, x), (b, y))),
+        _ => None,
+    };
+    same(j, j + 1)
+        .or_else(|| j.checked_sub(1).and_then(|i| same(i, j)))
+        .or_else(|| (j + 2 < RECEIVER_RAYS).then(|| same(j + 1, j + 2)).flatten())
 }
 
 /// The aliasing of `map` at `p` on a receiver with normal `n`
