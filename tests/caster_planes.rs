@@ -5,7 +5,7 @@
 //! the body swept toward the light).
 
 use glam::DVec4;
-use shadowfocus_cli::cli::render::{demo_configs, scene_inputs};
+use shadowfocus_cli::cli::render::{demo_configs, scene_inputs, scene_settings};
 use shadowfocus_cli::focus::{caster_planes, cull_casters, fit, FocusResult, MAX_REGION_PLANES};
 use shadowfocus_cli::geom::Aabb;
 use shadowfocus_cli::render::{builtin_scene, BUILTIN_SCENES};
@@ -28,7 +28,7 @@ fn caster_planes_cull_what_cull_casters_culls_on_every_builtin_scene() {
         let mut kept = vec![0u32; boxes.len()];
         for (label, opts) in demo_configs(1024) {
             let mut out = FocusResult::new();
-            fit(&camera, &light, &bounds, &opts.settings().unwrap(), &mut out).unwrap();
+            fit(&camera, &light, &bounds, &scene_settings(&scene, &opts).unwrap(), &mut out).unwrap();
             for map in out.maps().iter().filter(|m| m.is_active()) {
                 let n = caster_planes(map, &mut planes).unwrap();
                 let k = cull_casters(map, &boxes, &mut kept).unwrap();

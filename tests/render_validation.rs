@@ -6,7 +6,7 @@
 
 use glam::DVec3;
 use shadowfocus_cli::cli::fit::FitOptions;
-use shadowfocus_cli::cli::render::{demo_configs, fit_scene};
+use shadowfocus_cli::cli::render::{demo_configs, fit_scene, scene_settings};
 use shadowfocus_cli::cli::sweep::{ADEQUATE_LIMIT, MIN_ADEQUATE_PIXELS};
 use shadowfocus_cli::focus::{fit, ClipConvention, FocusResult, FocusSettings, Footprint, Method, PointMode, SplitScheme};
 use shadowfocus_cli::render::{
@@ -20,7 +20,7 @@ const RES: u32 = 1024;
 static RENDERER: Mutex<Option<Renderer>> = Mutex::new(None);
 
 fn render(scene: &Scene, opts: &FitOptions) -> RenderMetrics {
-    render_with(scene, opts, &opts.settings().unwrap())
+    render_with(scene, opts, &scene_settings(scene, opts).unwrap())
 }
 
 fn render_with(scene: &Scene, opts: &FitOptions, settings: &FocusSettings) -> RenderMetrics {
@@ -125,7 +125,7 @@ fn reversed_z_maps_render_the_same_shadows() {
     for name in shadowfocus_cli::render::BUILTIN_SCENES {
         let s = scene(name);
         for (label, opts) in demo_configs(RES) {
-            let settings = opts.settings().unwrap();
+            let settings = scene_settings(&s, &opts).unwrap();
             let reversed = FocusSettings { clip: ClipConvention::WGPU.reversed(), ..settings };
             let (maps, _, _) = fit_scene(&s, SIZE.0 as f64 / SIZE.1 as f64, &reversed).unwrap();
             let (plain, _, _) = fit_scene(&s, SIZE.0 as f64 / SIZE.1 as f64, &settings).unwrap();
@@ -167,7 +167,7 @@ fn depth_clamped_maps_render_the_same_shadows_with_a_tighter_depth_range() {
         let s = scene(name);
         let (camera, light, bounds) = shadowfocus_cli::cli::render::scene_inputs(&s, aspect).unwrap();
         for (label, opts) in demo_configs(RES) {
-            let plain = opts.settings().unwrap();
+            let plain = scene_settings(&s, &opts).unwrap();
             let clamped = FocusSettings { depth_clamp: true, ..plain };
             let (mut a, mut b) = (FocusResult::new(), FocusResult::new());
             fit(&camera, &light, &bounds, &plain, &mut a).unwrap();
@@ -230,7 +230,7 @@ fn receiver_fitted_maps_render_right_shadows_with_finer_texels() {
     for name in shadowfocus_cli::render::BUILTIN_SCENES {
         let s = scene(name);
         for (label, opts) in demo_configs(RES) {
-            let plain = opts.settings().unwrap();
+            let plain = scene_settings(&s, &opts).unwrap();
             let fitted = FocusSettings { footprint: Footprint::RECEIVERS, ..plain };
             let (a, b) = (render_with(&s, &opts, &plain), render_with(&s, &opts, &fitted));
             let mb = b.mismatch.unwrap();

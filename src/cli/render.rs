@@ -246,11 +246,8 @@ pub fn render_frame_hinted(
     state: Option<&mut FitState>,
     sdsm: Option<[f64; 2]>,
 ) -> Result<(render::RenderOutput, Value), String> {
-    let mut settings = opts.settings()?;
+    let mut settings = scene_settings(scene, opts)?;
     settings.visible_depth = sdsm;
-    if opts.receiver_boxes {
-        settings.receivers = receiver_boxes(scene)?;
-    }
     // NOTE: the renderer is wgpu: clip depth in [0, 1] (reversed-Z maps
     // render through their greater test), and clamping where the adapter
     // has it. Anything else would render wrong shadows, so it is refused.
@@ -295,6 +292,16 @@ pub fn render_frame_hinted(
     Ok((out, extra))
 }
 
+/// The settings of `opts` for `scene`: with `--receiver-boxes`, its
+/// receiver boxes.
+pub fn scene_settings(scene: &Scene, opts: &FitOptions) -> Result<FocusSettings, String> {
+    let mut settings = opts.settings()?;
+    if opts.receiver_boxes {
+        settings.receivers = receiver_boxes(scene)?;
+    }
+    Ok(settings)
+}
+
 /// The boxes of the scene's receivers (the objects its aliasing statistics
 /// count), as an engine would pass them.
 pub fn receiver_boxes(scene: &Scene) -> Result<ReceiverBoxes, String> {
@@ -322,6 +329,8 @@ pub fn demo_configs(resolution: u32) -> Vec<(String, FitOptions)> {
         ("lispsm".into(), base(Method::Lispsm, 1, resolution)),
         ("tsm".into(), base(Method::Tsm, 1, resolution)),
         ("pssm4-lispsm".into(), base(Method::Lispsm, 4, resolution / 2)),
+        // Auto per split, the planes placed on the scene's receiver boxes.
+        ("pssm4-auto-boxes".into(), FitOptions { receiver_boxes: true, ..base(Method::Auto, 4, resolution / 2) }),
     ]
 }
 

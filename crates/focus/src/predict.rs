@@ -31,7 +31,7 @@
 
 use crate::project::image_area_scale;
 use crate::project::post_perspective;
-use crate::receiver_rays::{clip_ray, ReceiverModel};
+use crate::receiver_rays::{clip_ray, first_box};
 use crate::split_view::SplitView;
 use glam::{DMat4, DVec3, DVec4};
 use shadowfocus_geom::Body;
@@ -123,9 +123,11 @@ impl Samples {
                     (exit.depth, exit.axis)
                 } else {
                     // The engine's receiver boxes: where the ray first meets
-                    // one in the split, nothing where it meets none.
-                    let Some(h) = ReceiverModel::Boxes(receivers).hit(cam.eye, d, cam.near, cam.far) else { continue };
-                    (h.z, Some(h.axis))
+                    // one in the split (the split's far end, of unknown
+                    // orientation, where it is inside one there), nothing
+                    // where it meets none.
+                    let Some((_, z, axis)) = first_box(receivers, cam.eye, d, cam.near, cam.far) else { continue };
+                    (z, axis)
                 };
                 s.pts[s.len] = cam.eye + d * z;
                 s.face[s.len] = face.map(|k| DVec3::AXES[k]);

@@ -74,22 +74,31 @@ impl<'a> ReceiverModel<'a> {
                 let axis = exit.axis?;
                 Some(Hit { z: exit.depth, axis, face: face(0, axis) })
             }
-            // The face a ray enters a box through, or leaves it through
-            // where it starts inside; the nearest over the boxes.
-            ReceiverModel::Boxes(boxes) => boxes
-                .iter()
-                .enumerate()
-                .filter_map(|(k, b)| {
-                    let x = clip_ray(eye, d, near, far, b.min, b.max)?;
-                    let (z, axis) = match x.entry_axis {
-                        Some(axis) => (x.entry, axis),
-                        None => (x.depth, x.axis?),
-                    };
-                    Some(Hit { z, axis, face: face(k, axis) })
-                })
-                .min_by(|a, b| a.z.total_cmp(&b.z)),
+            ReceiverModel::Boxes(boxes) => {
+                let (k, z, axis) = first_box(boxes, eye, d, near, far)?;
+                let axis = axis?;
+                Some(Hit { z, axis, face: face(k, axis) })
+            }
         }
     }
+}
+
+/// The nearest of `boxes` on the ray `eye + z·d`, `z ∈ [near, far]`: its
+/// index, and the depth and axis of the face the ray enters it through, or
+/// leaves it through where it starts inside (no axis where it is still
+/// inside at `far`).
+pub(crate) fn first_box(boxes: &[Aabb], eye: DVec3, d: DVec3, near: f64, far: f64) -> Option<(usize, f64, Option<usize>)> {
+    boxes
+        .iter()
+        .enumerate()
+        .filter_map(|(k, b)| {
+            let x = clip_ray(eye, d, near, far, b.min, b.max)?;
+            Some(match x.entry_axis {
+                Some(axis) => (k, x.entry, Some(axis)),
+                None => (k, x.depth, x.axis),
+            })
+        })
+        .min_by(|a, b| a.1.total_cmp(&b.1))
 }
 
 /// A camera ray's receiver: its view depth, the axis of the box face it
