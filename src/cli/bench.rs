@@ -68,7 +68,7 @@ pub fn configs(quick: bool, full: bool, res: u32) -> Vec<FitOptions> {
         return v;
     }
     let (counts, schemes): (&[usize], &[&str]) =
-        if full { (&[2, 3, 4, 5, 6, 7, 8], &["uniform", "log", "practical"]) } else { (&[2, 4, 8], &["practical"]) };
+        if full { (&[2, 3, 4, 5, 6, 7, 8], &["uniform", "log", "practical", "optimal"]) } else { (&[2, 4, 8], &["practical", "optimal"]) };
     for &m in &METHODS {
         for &k in counts {
             for s in schemes {

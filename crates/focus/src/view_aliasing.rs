@@ -100,11 +100,11 @@ pub fn predict_aliasing(map: &ShadowMap, camera: &Camera, scene: &Aabb, receiver
         return None;
     }
     let basis = camera.basis().ok()?;
-    let camera_clip = post_perspective(camera, &basis, 0.0);
     let mut out = None;
     let rays = ReceiverRays::new(camera, &basis, &map.light, ReceiverModel::new(scene, receivers));
-    rays.each(&map.split_range, |_, p, n, z| {
-        if let Some(e) = aliasing_in(map, &camera_clip, p, n) {
+    rays.each(&map.split_range, |_, s| {
+        if let Some(e) = aliasing_in(map, s) {
+            let z = s.z;
             out = Some(out.map_or(ViewAliasing::one(e, z), |v: ViewAliasing| v.with(e, z)));
         }
     });
@@ -116,10 +116,9 @@ pub fn predict_aliasing(map: &ShadowMap, camera: &Camera, scene: &Aabb, receiver
 /// lands in.
 pub(crate) fn receiver_aliasing(maps: &[ShadowMap], depths: &[f64], rays: &ReceiverRays) -> [Option<ViewAliasing>; MAX_SPLITS] {
     let mut out = [None; MAX_SPLITS];
-    let camera_clip = post_perspective(rays.camera, rays.basis, 0.0);
-    rays.each(depths, |split, p, n, z| {
-        let Some(e) = split_map(maps, split, p).and_then(|map| aliasing_in(map, &camera_clip, p, n)) else { return };
-        out[split] = Some(out[split].map_or(ViewAliasing::one(e, z), |v: ViewAliasing| v.with(e, z)));
+    rays.each(depths, |split, s| {
+        let Some(e) = split_map(maps, split, s.p).and_then(|map| aliasing_in(map, s)) else { return };
+        out[split] = Some(out[split].map_or(ViewAliasing::one(e, s.z), |v: ViewAliasing| v.with(e, s.z)));
     });
     out
 }
@@ -129,21 +128,49 @@ pub(crate) fn receiver_aliasing(maps: &[ShadowMap], depths: &[f64], rays: &Recei
 /// prediction of one fit.
 pub(crate) struct ReceiverRays<'a> {
     camera: &'a Camera,
-    basis: &'a CameraBasis,
     light: &'a Light,
     model: ReceiverModel<'a>,
+    /// The view direction, and the image's half extents at depth 1.
+    forward: DVec3,
+    right: DVec3,
+    up: DVec3,
+    camera_clip: DMat4,
     /// Per column of rays, each row's receiver.
     hits: [[Option<Hit>; RECEIVER_RAYS]; RECEIVER_RAYS],
+    /// The same rows' samples, where they face the light.
+    samples: [[Option<Sample>; RECEIVER_RAYS]; RECEIVER_RAYS],
+}
+
+/// A receiver sample: point, unit normal toward the camera, view depth, and
+/// the camera's area magnification there (`a_C`, the same for every map).
+#[derive(Clone, Copy)]
+pub(crate) struct Sample {
+    p: DVec3,
+    n: DVec3,
+    z: f64,
+    camera_area: f64,
 }
 
 impl<'a> ReceiverRays<'a> {
     /// Each ray's receiver, the ray clipped to the camera's whole range: a
     /// ray whose receiver lies beyond the planes has none in them.
     pub fn new(camera: &'a Camera, basis: &'a CameraBasis, light: &'a Light, model: ReceiverModel<'a>) -> ReceiverRays<'a> {
-        let mut rays = ReceiverRays { camera, basis, light, model, hits: [[None; RECEIVER_RAYS]; RECEIVER_RAYS] };
+        let ty = (0.5 * camera.fovy).tan();
+        let mut rays = ReceiverRays {
+            camera,
+            light,
+            model,
+            forward: basis.forward,
+            right: basis.right * (ty * camera.aspect),
+            up: basis.up * ty,
+            camera_clip: post_perspective(camera, basis, 0.0),
+            hits: [[None; RECEIVER_RAYS]; RECEIVER_RAYS],
+            samples: [[None; RECEIVER_RAYS]; RECEIVER_RAYS],
+        };
         for i in 0..RECEIVER_RAYS {
             for j in 0..RECEIVER_RAYS {
                 rays.hits[i][j] = rays.hit(i, ray_grid(j));
+                rays.samples[i][j] = rays.hits[i][j].and_then(|h| rays.facing(i, ray_grid(j), h));
             }
         }
         rays
@@ -151,9 +178,7 @@ impl<'a> ReceiverRays<'a> {
 
     /// The ray of column `i` at image height `gy` (`d · forward = 1`).
     fn ray(&self, i: usize, gy: f64) -> DVec3 {
-        let ty = (0.5 * self.camera.fovy).tan();
-        let b = self.basis;
-        b.forward + b.right * (ray_grid(i) * ty * self.camera.aspect) + b.up * (gy * ty)
+        self.forward + self.right * ray_grid(i) + self.up * gy
     }
 
     fn hit(&self, i: usize, gy: f64) -> Option<Hit> {
@@ -163,29 +188,21 @@ impl<'a> ReceiverRays<'a> {
     /// The view depth of the nearest ray's receiver that faces the light;
     /// `None` without any.
     pub fn nearest(&self) -> Option<f64> {
-        let mut lo: Option<f64> = None;
-        for (i, column) in self.hits.iter().enumerate() {
-            for (j, h) in column.iter().enumerate() {
-                if let Some(h) = h.filter(|h| self.facing(i, ray_grid(j), *h).is_some()) {
-                    lo = Some(lo.map_or(h.z, |l| l.min(h.z)));
-                }
-            }
-        }
-        lo
+        self.samples.iter().flatten().flatten().map(|s| s.z).reduce(f64::min)
     }
 
-    /// The receiver's point and its face's normal toward the camera, where
+    /// The receiver's sample (its face's normal toward the camera), where
     /// it faces the light: one turned away is in its own shadow, where no
     /// aliasing shows.
-    fn facing(&self, i: usize, gy: f64, h: Hit) -> Option<(DVec3, DVec3)> {
+    fn facing(&self, i: usize, gy: f64, h: Hit) -> Option<Sample> {
         let d = self.ray(i, gy);
         let n = DVec3::AXES[h.axis] * -d[h.axis].signum();
         let p = self.camera.eye + d * h.z;
-        (n.dot(toward_light(self.light, p)) > 0.0).then_some((p, n))
+        (n.dot(toward_light(self.light, p)) > 0.0).then(|| Sample { p, n, z: h.z, camera_area: image_area_scale(&self.camera_clip, p, n) })
     }
 
-    /// Calls `f(split, p, n, z)` for each receiver sample that faces `light`
-    /// (point `p`, unit normal `n`, view depth `z`) in the depth range
+    /// Calls `f(split, sample)` for each receiver sample that faces the
+    /// light in the depth range
     /// `depths[0]..=depths[m]`, `split` the index of the range
     /// `[depths[i], depths[i + 1]]` holding `z`.
     ///
@@ -195,18 +212,11 @@ impl<'a> ReceiverRays<'a> {
     /// both sides): a split's worst receiver on a face is mostly at one of its
     /// ends, which evenly spread rays miss where a split holds few rows of the
     /// image (far splits over a ground seen near the horizon).
-    pub fn each(&self, depths: &[f64], mut f: impl FnMut(usize, DVec3, DVec3, f64)) {
+    pub fn each(&self, depths: &[f64], mut f: impl FnMut(usize, &Sample)) {
         let Some(m) = depths.len().checked_sub(1).filter(|&m| m > 0) else { return };
-        let mut sample = |split: usize, i: usize, gy: f64, h: Hit| {
-            if let Some((p, n)) = self.facing(i, gy, h) {
-                f(split, p, n, h.z);
-            }
-        };
         for (i, column) in self.hits.iter().enumerate() {
-            for (j, h) in column.iter().enumerate() {
-                if let Some(h) = h.filter(|h| h.z >= depths[0] && h.z <= depths[m]) {
-                    sample(depths[1..m].partition_point(|&c| c < h.z), i, ray_grid(j), h);
-                }
+            for s in self.samples[i].iter().flatten().filter(|s| s.z >= depths[0] && s.z <= depths[m]) {
+                f(depths[1..m].partition_point(|&c| c < s.z), s);
             }
             // Along a column, `1/z` on a plane is affine in the image row:
             // the rows where a face crosses each plane follow from two rays
@@ -226,9 +236,10 @@ impl<'a> ReceiverRays<'a> {
                     // whatever the last bit, so that a split predicts the
                     // same alone (`predict_aliasing`) as among the others.
                     let Some(h) = self.hit(i, gy).filter(|h| h.face == a.1.face) else { continue };
+                    let Some(s) = self.facing(i, gy, h) else { continue };
                     for split in [k.wrapping_sub(1), k] {
                         if split < m {
-                            sample(split, i, gy, h);
+                            f(split, &s);
                         }
                     }
                 }
@@ -259,13 +270,13 @@ fn face_line(column: &[Option<Hit>; RECEIVER_RAYS], j: usize) -> Option<((usize,
 /// (dimensionless); infinite where the map cannot see `p` (NaN from `w ≤
 /// 0`: never a smaller prediction); `None` for a cube face that does not
 /// serve `p`.
-fn aliasing_in(map: &ShadowMap, camera_clip: &DMat4, p: DVec3, n: DVec3) -> Option<f64> {
+fn aliasing_in(map: &ShadowMap, s: &Sample) -> Option<f64> {
     if let (Some(f), Light::Spot { position, .. }) = (map.face, &map.light) {
-        if CubeFace::toward(p - *position) != f {
+        if CubeFace::toward(s.p - *position) != f {
             return None;
         }
     }
-    let e = (image_area_scale(camera_clip, p, n) / image_area_scale(&map.fit.clip_from_world, p, n)).sqrt();
+    let e = (s.camera_area / image_area_scale(&map.fit.clip_from_world, s.p, s.n)).sqrt();
     Some(if e.is_nan() { f64::INFINITY } else { e })
 }
 
