@@ -28,6 +28,11 @@
 //! through that is better only there and worse on every surface actually
 //! seen. A receiver nearer than a ray's far end favours the warp, so the
 //! choice errs toward the uniform map, never toward a worse warp.
+//!
+//! Where the engine passes receiver boxes ([`crate::FocusSettings::receivers`]),
+//! the samples are where the rays first meet one in the split instead (its
+//! far end where a ray is still inside one there), and a ray that meets
+//! none has no sample.
 
 use crate::project::image_area_scale;
 use crate::project::post_perspective;

@@ -202,9 +202,8 @@ impl<'a> ReceiverRays<'a> {
     }
 
     /// Calls `f(split, sample)` for each receiver sample that faces the
-    /// light in the depth range
-    /// `depths[0]..=depths[m]`, `split` the index of the range
-    /// `[depths[i], depths[i + 1]]` holding `z`.
+    /// light in the depth range `depths[0]..=depths[m]`, `split` the index
+    /// of the range `[depths[i], depths[i + 1]]` holding its depth.
     ///
     /// The samples are the receivers of `RECEIVER_RAYS²` rays spread evenly
     /// over the image, and, in each column of rays, the points where a face
@@ -266,10 +265,9 @@ fn face_line(column: &[Option<Hit>; RECEIVER_RAYS], j: usize) -> Option<((usize,
         .or_else(|| (j + 2 < RECEIVER_RAYS).then(|| same(j + 1, j + 2)).flatten())
 }
 
-/// The aliasing of `map` at `p` on a receiver with normal `n`
-/// (dimensionless); infinite where the map cannot see `p` (NaN from `w ≤
-/// 0`: never a smaller prediction); `None` for a cube face that does not
-/// serve `p`.
+/// The aliasing of `map` at the sample `s` (dimensionless); infinite where
+/// the map cannot see it (NaN from `w ≤ 0`: never a smaller prediction);
+/// `None` for a cube face that does not serve it.
 fn aliasing_in(map: &ShadowMap, s: &Sample) -> Option<f64> {
     if let (Some(f), Light::Spot { position, .. }) = (map.face, &map.light) {
         if CubeFace::toward(s.p - *position) != f {

@@ -15,8 +15,10 @@ fn pixel_pos(w: &[f32; 4]) -> DVec3 {
 
 /// The aliasing of every pixel the statistics count (a visible receiver
 /// that faces the light, inside a spot's cone, served by a map), with the
-/// map that serves it.
-fn counted_aliasing<'a>(req: &'a RenderRequest, out: &'a RenderOutput) -> impl Iterator<Item = (i32, f64)> + 'a {
+/// map that serves it and the factor `√(cos θ / cos φ)` that takes the
+/// angle terms out of it (θ, φ: the light's and the eye's angles of
+/// incidence; every map projects along the light's rays).
+fn counted_aliasing<'a>(req: &'a RenderRequest, out: &'a RenderOutput) -> impl Iterator<Item = (i32, f64, f64)> + 'a {
     out.world.iter().enumerate().filter_map(|(i, w)| {
         let e = out.aliasing[i];
         // NaN (background) and −1 (uncovered) both fail `e >= 0`.
@@ -26,15 +28,25 @@ fn counted_aliasing<'a>(req: &'a RenderRequest, out: &'a RenderOutput) -> impl I
         let p = pixel_pos(w);
         let n = DVec3::new(out.normal[i][0] as f64, out.normal[i][1] as f64, out.normal[i][2] as f64);
         let (l, _) = req.light.toward_light(p);
-        (n.dot(l) > 0.0 && req.light.in_spot(p)).then_some((out.split[i], e as f64))
+        let angles = angle_factor(n, l, (req.camera.eye - p).normalize());
+        (n.dot(l) > 0.0 && req.light.in_spot(p)).then_some((out.split[i], e as f64, angles))
     })
+}
+
+/// `√(cos θ / cos φ)` for a receiver with normal `n`, `l` and `v` the unit
+/// directions toward the light and the eye: a receiver's aliasing is that of
+/// one facing both times `√(cos φ / cos θ)` (its image on the screen, in
+/// pixels, shrinks with cos φ, its image in the map, in texels, with
+/// cos θ), so this factor takes the angles out.
+fn angle_factor(n: DVec3, l: DVec3, v: DVec3) -> f64 {
+    (n.dot(l).abs() / n.dot(v).abs()).sqrt()
 }
 
 /// Per map, the largest aliasing among the pixels it serves (NaN for a map
 /// that serves none).
 pub(crate) fn map_aliasing_max(req: &RenderRequest, out: &RenderOutput) -> Vec<f64> {
     let mut max = vec![f64::NAN; req.maps.len()];
-    for (map, e) in counted_aliasing(req, out) {
+    for (map, e, _) in counted_aliasing(req, out) {
         if let Some(m) = usize::try_from(map).ok().and_then(|k| max.get_mut(k)) {
             *m = if m.is_nan() { e } else { m.max(e) };
         }
@@ -43,20 +55,31 @@ pub(crate) fn map_aliasing_max(req: &RenderRequest, out: &RenderOutput) -> Vec<f
 }
 
 pub(crate) fn aliasing_stats(req: &RenderRequest, out: &RenderOutput) -> AliasingStats {
-    let mut v: Vec<f64> = counted_aliasing(req, out).map(|(_, e)| e).collect();
+    let mut v: Vec<f64> = counted_aliasing(req, out).map(|(_, e, _)| e).collect();
+    let angle_free_max = counted_aliasing(req, out).map(|(_, e, g)| e * g).fold(f64::NAN, f64::max);
     let s = &req.settings;
     let texels = req.maps.len() as f64 * s.shadow_resolution as f64 * s.shadow_resolution as f64;
     let c = &req.camera;
     let bound = crate::bound::min_max_aliasing(s.width, s.height, c.fovy, c.near, c.far, texels).unwrap_or(f64::NAN);
     if v.is_empty() {
-        return AliasingStats { max: f64::NAN, p95: f64::NAN, mean: f64::NAN, pixels: 0, bound, ratio: f64::NAN };
+        let nan = f64::NAN;
+        return AliasingStats { max: nan, p95: nan, mean: nan, pixels: 0, bound, ratio: nan, angle_free_max: nan, angle_free_ratio: nan };
     }
     let mean = v.iter().sum::<f64>() / v.len() as f64;
     let k = ((v.len() as f64 * 0.95).ceil() as usize).clamp(1, v.len()) - 1;
     let (_, p95, _) = v.select_nth_unstable_by(k, |a, b| a.total_cmp(b));
     let p95 = *p95;
     let max = v.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
-    AliasingStats { max, p95, mean, pixels: v.len() as u64, bound, ratio: max / bound }
+    AliasingStats {
+        max,
+        p95,
+        mean,
+        pixels: v.len() as u64,
+        bound,
+        ratio: max / bound,
+        angle_free_max,
+        angle_free_ratio: angle_free_max / bound,
+    }
 }
 
 /// Classifies each pixel against the ground truth (which must be present).
@@ -380,6 +403,21 @@ mod tests {
         assert_eq!(m["adequate_pixels"].as_u64(), Some(2 * 3 * 4));
         assert_eq!(m["adequate_mismatched"].as_u64(), Some(3 * 4));
         assert!((m["rate_adequate"].as_f64().unwrap() - 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_angle_factor_undoes_the_angles_of_incidence() {
+        let (n, up) = (DVec3::Y, DVec3::Y);
+        let at = |deg: f64| DVec3::new(deg.to_radians().sin(), deg.to_radians().cos(), 0.0);
+        assert!((angle_factor(n, up, up) - 1.0).abs() < 1e-15);
+        // Light at 60° (cos ½), eye head-on: a texel covers twice the
+        // receiver, the aliasing is √2 times a facing receiver's; the factor
+        // is √½.
+        assert!((angle_factor(n, at(60.0), up) - 0.5f64.sqrt()).abs() < 1e-12);
+        // Eye at 60°, light head-on: the other way.
+        assert!((angle_factor(n, up, at(60.0)) - 2f64.sqrt()).abs() < 1e-12);
+        // The normal's side does not matter.
+        assert_eq!(angle_factor(-n, at(30.0), at(45.0)), angle_factor(n, at(30.0), at(45.0)));
     }
 
     #[test]

@@ -18,6 +18,13 @@ pub struct AliasingStats {
     pub bound: f64,
     /// `max / bound`: how far the frame is from the ideal parameterisation.
     pub ratio: f64,
+    /// The maximum with the angle terms taken out: each pixel's aliasing times
+    /// `√(cos θ / cos φ)`, θ and φ the light's and the eye's angles of incidence on the
+    /// receiver (the map's and the camera's projection rays), which the bound sets to 1.
+    pub angle_free_max: f64,
+    /// `angle_free_max / bound`: what is left of `ratio` without the angle terms (the split
+    /// count, where the receivers are); `ratio / angle_free_ratio` is what the angles cost.
+    pub angle_free_ratio: f64,
 }
 
 /// Rendered lit/shadowed against the ray-cast ground truth.
