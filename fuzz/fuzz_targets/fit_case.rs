@@ -9,7 +9,10 @@
 use libfuzzer_sys::fuzz_target;
 use shadowfocus_cli::cli::case::parse_case;
 use shadowfocus_cli::cli::fit::{case_camera, fit_case, prepare_case, run};
-use shadowfocus_cli::focus::{fit_prepared, FocusResult, FocusSettings, Method, PointMode, PreparedView, SplitScheme, SplitSettings};
+use shadowfocus_cli::focus::{
+    fit_prepared, FocusResult, FocusSettings, Method, PointMode, PreparedView, ReceiverBoxes, SplitScheme, SplitSettings,
+};
+use shadowfocus_cli::geom::{Aabb, DVec3};
 use shadowfocus_fuzz::check_result_lines;
 use std::cell::RefCell;
 
@@ -18,13 +21,24 @@ use std::cell::RefCell;
 fn settings(k: usize) -> FocusSettings {
     let method = [Method::Uniform, Method::Psm, Method::Lispsm, Method::Tsm][k % 4];
     let count = [1, 3, 4][(k / 4) % 3];
-    let scheme = [SplitScheme::Practical { lambda: 0.5 }, SplitScheme::Log, SplitScheme::Uniform][(k / 12) % 3];
-    let point = if (k / 36) % 2 == 0 { PointMode::Single } else { PointMode::Cube };
+    let scheme = [
+        SplitScheme::Practical { lambda: 0.5 },
+        SplitScheme::Log,
+        SplitScheme::Uniform,
+        SplitScheme::Geometric { first: 10.0 },
+        SplitScheme::Optimal,
+    ][(k / 12) % 5];
+    let point = if (k / 60) % 2 == 0 { PointMode::Single } else { PointMode::Cube };
+    // Now and then a ground slab as the receivers (any case's scale: it may
+    // miss the scene altogether).
+    let slab = Aabb { min: DVec3::new(-50.0, -1.0, -50.0), max: DVec3::new(50.0, 0.0, 50.0) };
+    let receivers = if k % 7 == 3 { ReceiverBoxes::new(&[slab]).unwrap_or_default() } else { ReceiverBoxes::NONE };
     FocusSettings {
         method,
         splits: SplitSettings { count, scheme, delta_bias: 0.0 },
         point,
         stable: k % 5 == 0,
+        receivers,
         ..FocusSettings::default()
     }
 }
