@@ -62,7 +62,7 @@ impl ReceiverBoxes {
         ReceiverBoxes::from_boxes(boxes.iter().copied())
     }
 
-    /// [`ReceiverBoxes::new`] from boxes read twice from `boxes` (a C
+    /// [`ReceiverBoxes::new`] from an iterator it may read more than once (a C
     /// array converted on the fly).
     pub fn from_boxes<I: Iterator<Item = Aabb> + Clone>(boxes: I) -> Result<ReceiverBoxes, FocusError> {
         let mut out = ReceiverBoxes::NONE;
