@@ -4,8 +4,8 @@ use super::body::{case_median_ns, median, p99};
 use super::case::{case_lines, parse_case, Case};
 use serde_json::{json, Value};
 use shadowfocus_focus::{
-    camera_from_corners, fit, fit_frustum, fit_map, fit_prepared, ClipConvention, FocusResult, FocusSettings, Footprint, Method,
-    PreparedView, SplitScheme, SplitSettings,
+    camera_from_corners, fit, fit_frustum, fit_map, fit_prepared, ClipConvention, FocusResult, FocusSettings, Footprint, MapSizes, Method,
+    PreparedView, SplitScheme, SplitSettings, TexelBudget,
 };
 use shadowfocus_geom::{Body, Camera, Focuser, Frustum};
 use std::hint::black_box;
@@ -59,6 +59,14 @@ pub struct FitOptions {
     /// --depth-clamp fit to their bounds.
     #[arg(long)]
     pub receiver_boxes: bool,
+    /// Texels the maps share by their predicted aliasing, as TEXELS or COUNTxSIDE (COUNT maps of
+    /// SIDE² texels, e.g. 4x1024): each map takes its own size, at most --resolution.
+    #[arg(long, value_parser = parse_budget)]
+    pub budget: Option<u64>,
+    /// With --budget: the sizes a map may take, any | pow2 (powers of two: coarse, they gain
+    /// only where the maps' aliasing differs by more than 2×).
+    #[arg(long, default_value = "any", value_parser = parse_sizes)]
+    pub budget_sizes: MapSizes,
 }
 
 impl Default for FitOptions {
@@ -77,7 +85,30 @@ impl Default for FitOptions {
             receiver_margin: Footprint::DEFAULT_MARGIN_TEXELS,
             sdsm: false,
             receiver_boxes: false,
+            budget: None,
+            budget_sizes: MapSizes::Any,
         }
+    }
+}
+
+/// A texel budget: `TEXELS`, or `COUNTxSIDE` for COUNT maps of SIDE² texels.
+pub fn parse_budget(s: &str) -> Result<u64, String> {
+    let bad = || format!("texel budget {s:?} is not TEXELS or COUNTxSIDE (e.g. 4194304 or 4x1024)");
+    let texels = match s.split_once('x') {
+        Some((count, side)) => {
+            let (count, side): (u64, u64) = (count.parse().map_err(|_| bad())?, side.parse().map_err(|_| bad())?);
+            count.checked_mul(side).and_then(|c| c.checked_mul(side)).ok_or_else(bad)?
+        }
+        None => s.parse().map_err(|_| bad())?,
+    };
+    Ok(texels)
+}
+
+pub fn parse_sizes(s: &str) -> Result<MapSizes, String> {
+    match s {
+        "pow2" => Ok(MapSizes::PowerOfTwo),
+        "any" => Ok(MapSizes::Any),
+        _ => Err(format!("unknown map sizes {s:?}: expected pow2 or any")),
     }
 }
 
@@ -134,6 +165,7 @@ impl FitOptions {
             clip: if self.reversed_z { self.clip.reversed() } else { self.clip },
             depth_clamp: self.depth_clamp,
             footprint: if self.fit_receivers { Footprint::Receivers { margin_texels: self.receiver_margin } } else { Footprint::Body },
+            texel_budget: self.budget.map(|texels| TexelBudget { texels, sizes: self.budget_sizes }),
             ..FocusSettings::default()
         };
         s.validate().map_err(|e| e.to_string())?;

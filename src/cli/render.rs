@@ -77,8 +77,10 @@ pub fn fit_frame(
     let mut utilisation = Vec::new();
     let mut h_depth_span = Vec::new();
     let mut predicted = Vec::new();
+    let mut resolutions = Vec::new();
     for m in result.maps().iter().filter(|m| m.is_active()) {
         utilisation.push(m.utilisation());
+        resolutions.push(m.fit.resolution);
         predicted.push(predict_aliasing(m, &camera, &bounds, settings.receivers.as_slice()).map(|p| p.max));
         h_depth_span.push(depth_span(&m.fit.clip_from_world, m.body().vertices()));
         let n = cull_casters(m, &boxes, &mut idx).map_err(|e| e.to_string())?;
@@ -94,6 +96,7 @@ pub fn fit_frame(
                 (Some(f), Light::Spot { position, .. }) => Some(render::CubeFaceSpec { light: position, index: f as u32 }),
                 _ => None,
             },
+            resolution: Some(m.fit.resolution),
         });
     }
     let summary = json!({
@@ -104,6 +107,7 @@ pub fn fit_frame(
         "utilisation": utilisation,
         "h_depth_span": h_depth_span,
         "predicted_aliasing": predicted,
+        "resolutions": resolutions,
         "split_depths": result.split_depths(),
     });
     Ok((specs, focusing_us, summary))
@@ -272,14 +276,18 @@ pub fn render_frame_hinted(
     // Each map's predicted maximum in screen pixels per texel, beside the
     // measured `map_aliasing_max` (receivers facing the camera: a receiver
     // the light or the eye grazes measures more or less).
-    let per_texel = ((size.0 as f64) * (size.1 as f64)).sqrt() / opts.resolution as f64;
-    let predicted_px: Vec<Option<f64>> =
-        summary["predicted_aliasing"].as_array().map_or(Vec::new(), |a| a.iter().map(|v| v.as_f64().map(|e| e * per_texel)).collect());
+    let pixels = ((size.0 as f64) * (size.1 as f64)).sqrt();
+    let predicted_px: Vec<Option<f64>> = specs
+        .iter()
+        .enumerate()
+        .map(|(k, m)| summary["predicted_aliasing"][k].as_f64().map(|e| e * pixels / req.map_resolution(m) as f64))
+        .collect();
     let extra = json!({
         "method": opts.method.name(),
         "splits": opts.splits,
         "scheme": opts.scheme_name(),
         "resolution": opts.resolution,
+        "budget": settings.texel_budget.map(|b| b.texels),
         "reversed_z": settings.clip.reversed_z,
         "depth_clamp": settings.depth_clamp,
         "fit_receivers": opts.fit_receivers,
@@ -331,6 +339,11 @@ pub fn demo_configs(resolution: u32) -> Vec<(String, FitOptions)> {
         ("pssm4-lispsm".into(), base(Method::Lispsm, 4, resolution / 2)),
         // Auto per split, the planes placed on the scene's receiver boxes.
         ("pssm4-auto-boxes".into(), FitOptions { receiver_boxes: true, ..base(Method::Auto, 4, resolution / 2) }),
+        // The same four maps' texels shared by their predicted aliasing, each at most R².
+        (
+            "pssm4-auto-budget".into(),
+            FitOptions { receiver_boxes: true, budget: Some(4 * (resolution as u64 / 2).pow(2)), ..base(Method::Auto, 4, resolution) },
+        ),
     ]
 }
 

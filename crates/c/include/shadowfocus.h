@@ -262,6 +262,11 @@ typedef struct SfAabb {
 } SfAabb;
 
 /*
+ An `SfMapSizes` value as C stores it.
+ */
+typedef int SfMapSizesInt;
+
+/*
  What to fit. Fill it with `sf_settings_default`, then change fields.
  Optional distances are "not set" when 0.
  */
@@ -410,6 +415,18 @@ typedef struct SfSettings {
    Number of boxes at `receivers`.
    */
   uint32_t receiver_count;
+  /*
+   Texels shared among the active maps by their predicted aliasing
+   (sum of size squared at most this), each map at most `resolution`
+   wide and its size in `SfMap::resolution`; 0: every map is
+   `resolution` wide (default). Refused with `stable`.
+   */
+  uint64_t texel_budget;
+  /*
+   An `SfMapSizes` value: the sizes a budgeted map may take (default
+   powers of two).
+   */
+  SfMapSizesInt budget_sizes;
 } SfSettings;
 
 /*
@@ -602,6 +619,11 @@ typedef struct SfMap {
    light ray through one), not the whole body.
    */
   int receiver_footprint;
+  /*
+   Texels per side of the square map: `resolution`, or its share of
+   `texel_budget`; 0 for an inactive map.
+   */
+  uint32_t resolution;
 } SfMap;
 
 /*

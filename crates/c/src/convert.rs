@@ -5,8 +5,9 @@ use crate::error::Failure;
 use crate::types::*;
 use glam::DVec3;
 use shadowfocus_focus::{
-    ClipConvention, DepthRange, DepthTest, FitState, FocusSettings, Footprint, LightNear, LispsmSettings, MapOrientation, Method,
-    PointMode, PsmSettings, ReceiverBoxes, ShadowMap, SplitScheme, SplitSettings, TsmSettings, UvOrigin, WarpDirection, WarpHold,
+    ClipConvention, DepthRange, DepthTest, FitState, FocusSettings, Footprint, LightNear, LispsmSettings, MapOrientation, MapSizes, Method,
+    PointMode, PsmSettings, ReceiverBoxes, ShadowMap, SplitScheme, SplitSettings, TexelBudget, TsmSettings, UvOrigin, WarpDirection,
+    WarpHold,
 };
 use shadowfocus_geom::{Aabb, Camera, Frustum, Light};
 use std::ffi::c_int;
@@ -110,6 +111,13 @@ pub unsafe fn settings(s: &SfSettings) -> Result<FocusSettings, Failure> {
         },
         visible_depth: (s.visible_depth_min != 0.0 || s.visible_depth_max != 0.0).then_some([s.visible_depth_min, s.visible_depth_max]),
         receivers,
+        texel_budget: match s.texel_budget {
+            0 => None,
+            texels => Some(TexelBudget {
+                texels,
+                sizes: pick(s.budget_sizes, &[MapSizes::PowerOfTwo, MapSizes::Any], "settings.budget_sizes", "SfMapSizes")?,
+            }),
+        },
     })
 }
 
@@ -211,6 +219,8 @@ pub fn default_settings() -> SfSettings {
         visible_depth_max: d.visible_depth.map_or(0.0, |r| r[1]),
         receivers: std::ptr::null(),
         receiver_count: 0,
+        texel_budget: d.texel_budget.map_or(0, |b| b.texels),
+        budget_sizes: (d.texel_budget.is_some_and(|b| b.sizes == MapSizes::Any)).into(),
     }
 }
 
@@ -247,6 +257,7 @@ pub fn map(m: &ShadowMap) -> SfMap {
         body_vertex_count: m.body().vertices().len() as u32,
         depth_clamp: f.depth_clamp.into(),
         receiver_footprint: (f.footprint != Footprint::Body).into(),
+        resolution: f.resolution,
     }
 }
 

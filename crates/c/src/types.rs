@@ -101,6 +101,16 @@ pub enum SfOrientation {
     SF_ORIENTATION_VIEW_ALIGNED = 1,
 }
 
+/// The side lengths a map of a texel budget may take.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SfMapSizes {
+    /// Powers of two.
+    SF_SIZES_POWER_OF_TWO = 0,
+    /// Any whole number of texels.
+    SF_SIZES_ANY = 1,
+}
+
 /// How a point light is covered.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -123,6 +133,8 @@ pub type SfWarpDirectionInt = c_int;
 pub type SfOrientationInt = c_int;
 /// An `SfPointMode` value as C stores it.
 pub type SfPointModeInt = c_int;
+/// An `SfMapSizes` value as C stores it.
+pub type SfMapSizesInt = c_int;
 
 /// Most parallel splits.
 pub const SF_MAX_SPLITS: u32 = 8;
@@ -335,6 +347,14 @@ pub struct SfSettings {
     pub receivers: *const SfAabb,
     /// Number of boxes at `receivers`.
     pub receiver_count: u32,
+    /// Texels shared among the active maps by their predicted aliasing
+    /// (sum of size squared at most this), each map at most `resolution`
+    /// wide and its size in `SfMap::resolution`; 0: every map is
+    /// `resolution` wide (default). Refused with `stable`.
+    pub texel_budget: u64,
+    /// An `SfMapSizes` value: the sizes a budgeted map may take (default
+    /// powers of two).
+    pub budget_sizes: SfMapSizesInt,
 }
 
 /// One fitted shadow map.
@@ -406,4 +426,7 @@ pub struct SfMap {
     /// Nonzero: the image holds the receivers (and every body point on a
     /// light ray through one), not the whole body.
     pub receiver_footprint: c_int,
+    /// Texels per side of the square map: `resolution`, or its share of
+    /// `texel_budget`; 0 for an inactive map.
+    pub resolution: u32,
 }

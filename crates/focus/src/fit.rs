@@ -1,5 +1,6 @@
 //! One frame: splits, bodies, maps, plan.
 
+use crate::budget::share_texels;
 use crate::cone::{cone_axis, turn_into_cone, CONE_MARGIN};
 use crate::error::FocusError;
 use crate::frame::{perpendicular_hint, tangent_frame};
@@ -91,20 +92,28 @@ fn fit_held(view: &PreparedView, light: &Light, scene: &Aabb, out: &mut FocusRes
     }
     let scene = Aabb::new(scene.min, scene.max)?;
     light.validate()?;
-    if view.settings.splits.scheme == SplitScheme::Optimal && view.splits > 1 {
-        let mut planes = view.depths;
+    let optimal = view.settings.splits.scheme == SplitScheme::Optimal && view.splits > 1;
+    // The receivers the prediction samples, found once for every use below.
+    let rays = (optimal || view.settings.texel_budget.is_some()).then(|| {
         let model = ReceiverModel::new(&scene, view.settings.receivers.as_slice());
-        let rays = ReceiverRays::new(&view.camera, &view.basis, light, model);
-        placement::place(&mut planes, rays.nearest(), view.splits, |planes| {
-            out.clear();
-            fit_splits(out, view, planes, light, &scene)?;
-            Ok(receiver_aliasing(out.maps(), out.split_depths(), &rays).map(|a| a.map(|a| a.max)))
-        })?;
-    } else {
-        fit_splits(out, view, &view.depths, light, &scene)?;
+        ReceiverRays::new(&view.camera, &view.basis, light, model)
+    });
+    match &rays {
+        Some(rays) if optimal => {
+            let mut planes = view.depths;
+            placement::place(&mut planes, rays.nearest(), view.splits, |planes| {
+                out.clear();
+                fit_splits(out, view, planes, light, &scene)?;
+                Ok(receiver_aliasing(out.maps(), out.split_depths(), rays).map(|a| a.map(|a| a.max)))
+            })?;
+        }
+        _ => fit_splits(out, view, &view.depths, light, &scene)?,
     }
     if view.settings.depth_clamp || view.settings.footprint != Footprint::Body {
         fit_receivers(out, view, &scene)?;
+    }
+    if let (Some(rays), Some(budget)) = (&rays, view.settings.texel_budget) {
+        share_texels(out, view, rays, budget)?;
     }
     plan(out, &view.settings, light, &scene);
     Ok(())
@@ -248,6 +257,7 @@ fn map_fit(sv: &SplitView, light: &Light, f: &Fitted) -> MapFit {
         f32_exact: f.f32_exact,
         depth_test: sv.settings.clip.depth_test(f.inverted),
         texel_size: [texel_size(&f.m, lp, eye + fwd * sv.camera.near, res), texel_size(&f.m, lp, eye + fwd * sv.camera.far, res)],
+        resolution: res,
         method: f.method,
         warp_near: f.warp_near,
         psm_shift: f.psm_shift,

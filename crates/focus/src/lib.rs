@@ -89,6 +89,7 @@
 
 #![deny(missing_docs)]
 
+mod budget;
 mod camera;
 pub mod clip;
 mod cone;
@@ -125,8 +126,8 @@ pub use frame::S0 as ORIENTATION_BLEND_SIN;
 pub use receiver_boxes::{ReceiverBoxes, MAX_RECEIVER_BOXES};
 pub use result::{CubeFace, DepthTest, FocusResult, MapFit, MapState, Notes, ShadowMap, Skipped};
 pub use settings::{
-    FocusSettings, Footprint, LightNear, LispsmSettings, MapOrientation, Method, PointMode, PsmSettings, SplitScheme, SplitSettings,
-    TsmSettings, WarpDirection,
+    FocusSettings, Footprint, LightNear, LispsmSettings, MapOrientation, MapSizes, Method, PointMode, PsmSettings, SplitScheme,
+    SplitSettings, TexelBudget, TsmSettings, WarpDirection,
 };
 pub use splits::{clip_depth, split_depths};
 pub use state::{FitState, WarpHold};

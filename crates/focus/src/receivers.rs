@@ -91,7 +91,7 @@ fn refit(map: &mut ShadowMap, r: &Body, view: &PreparedView) {
     let settings = view.settings();
     let grow = match settings.footprint {
         Footprint::Body => None,
-        Footprint::Receivers { margin_texels } => Some(1.0 / (1.0 - 2.0 * margin_texels / settings.resolution as f64)),
+        Footprint::Receivers { margin_texels } => Some(margin_grow(margin_texels, map.fit.resolution)),
     };
     // The depth row keeps its orientation: the map's row is already in the
     // convention (reversed where asked), so it is re-centred without
@@ -108,13 +108,20 @@ fn refit(map: &mut ShadowMap, r: &Body, view: &PreparedView) {
     map.fit.depth_clamp = settings.depth_clamp;
     if grow.is_some() {
         map.fit.footprint = settings.footprint;
-        map.fit.texel_size = texel_sizes(&m, &map.light, view, map.split_range);
+        map.fit.texel_size = texel_sizes(&m, &map.light, view, map.split_range, map.fit.resolution);
     }
 }
 
-/// [`crate::MapFit::texel_size`] of a refitted matrix.
-fn texel_sizes(m: &DMat4, light: &Light, view: &PreparedView, [near, far]: [f64; 2]) -> [f64; 2] {
+/// The factor [`crop_grown`] grows a receiver footprint by for a margin of
+/// `margin_texels` on each side of a map `resolution` texels wide: the
+/// receivers fill `1 − 2·margin / resolution` of its side.
+pub(crate) fn margin_grow(margin_texels: f64, resolution: u32) -> f64 {
+    1.0 / (1.0 - 2.0 * margin_texels / resolution as f64)
+}
+
+/// [`crate::MapFit::texel_size`] of a matrix `resolution` texels wide.
+pub(crate) fn texel_sizes(m: &DMat4, light: &Light, view: &PreparedView, [near, far]: [f64; 2], resolution: u32) -> [f64; 2] {
     let (eye, fwd) = (view.camera().eye, view.forward());
-    let (lp, res) = (light_point(light), view.settings().resolution);
-    [texel_size(m, lp, eye + fwd * near, res), texel_size(m, lp, eye + fwd * far, res)]
+    let lp = light_point(light);
+    [texel_size(m, lp, eye + fwd * near, resolution), texel_size(m, lp, eye + fwd * far, resolution)]
 }

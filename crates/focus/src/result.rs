@@ -136,6 +136,11 @@ pub struct MapFit {
     /// point.
     #[cfg_attr(feature = "serde", serde(with = "crate::serde_float::pair"))]
     pub texel_size: [f64; 2],
+    /// Texels per side of the square map: [`crate::FocusSettings::resolution`],
+    /// or the map's share of a [`crate::TexelBudget`]; 0 for a map with
+    /// nothing to render.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub resolution: u32,
     /// The method that produced the matrix (PSM may fall back to uniform).
     pub method: Method,
     /// Distance (in the map's image units) from the warp's projection centre
@@ -171,6 +176,7 @@ impl MapFit {
             f32_exact: true,
             depth_test: clip.normal_depth_test(),
             texel_size: [f64::INFINITY; 2],
+            resolution: 0,
             method,
             warp_near: f64::INFINITY,
             psm_shift: 0.0,

@@ -75,6 +75,36 @@ pub enum SplitScheme {
     Optimal,
 }
 
+/// Texels shared among a fit's maps ([`FocusSettings::texel_budget`]): each
+/// active map's size follows its predicted maximum aliasing
+/// ([`crate::predict_aliasing`]), so that the maps' maxima come out as even
+/// as the sizes allow: [`SplitScheme::Optimal`]'s rule, applied to sizes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct TexelBudget {
+    /// The most texels the active maps may hold together, `Σ size²`; at
+    /// least `MapSizes::SMALLEST²` per active map.
+    pub texels: u64,
+    /// Which sizes a map may take.
+    pub sizes: MapSizes,
+}
+
+/// The side lengths a budgeted map may take.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum MapSizes {
+    /// Powers of two (what texture arrays and atlases with mip-like
+    /// packing want).
+    PowerOfTwo,
+    /// Any whole number of texels.
+    Any,
+}
+
+impl MapSizes {
+    /// The smallest side a map takes: the least [`FocusSettings::resolution`].
+    pub const SMALLEST: u32 = 4;
+}
+
 /// Parallel splits of the view frustum.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -261,7 +291,8 @@ pub struct FocusSettings {
     pub method: Method,
     /// Parallel splits of the view (default one).
     pub splits: SplitSettings,
-    /// Shadow-map resolution in texels (square maps), ≥ 4.
+    /// Shadow-map resolution in texels (square maps), ≥ 4: every map's
+    /// side, or with a [`TexelBudget`] the largest side a map may take.
     pub resolution: u32,
     /// Stable maps: texel-snapped, their extent and depth range quantised,
     /// so that from frame to frame a map moves by whole texels or not at
@@ -332,6 +363,12 @@ pub struct FocusSettings {
     /// casters need not. Empty by default.
     #[cfg_attr(feature = "serde", serde(default))]
     pub receivers: ReceiverBoxes,
+    /// Texels shared among the maps by their predicted aliasing, instead of
+    /// `resolution²` each ([`TexelBudget`]); each map says its size in
+    /// [`crate::MapFit::resolution`]. The sizes follow the view and the
+    /// light, so stable maps refuse a budget. None by default.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub texel_budget: Option<TexelBudget>,
 }
 
 impl Default for FocusSettings {
@@ -354,6 +391,7 @@ impl Default for FocusSettings {
             footprint: Footprint::Body,
             visible_depth: None,
             receivers: ReceiverBoxes::NONE,
+            texel_budget: None,
         }
     }
 }
@@ -399,8 +437,20 @@ impl FocusSettings {
             }
             _ => {}
         }
-        if self.resolution < 4 {
+        if self.resolution < MapSizes::SMALLEST {
             return bad("resolution", "must be at least 4 texels");
+        }
+        if let Some(b) = self.texel_budget {
+            let least = u64::from(MapSizes::SMALLEST).pow(2);
+            if b.texels < least {
+                return bad("texel_budget.texels", "must be at least 16 (one map of 4 × 4 texels)");
+            }
+            if self.stable {
+                return bad(
+                    "texel_budget",
+                    "a budget resizes the maps with the view and the light; stable maps need sizes that hold still: give each map `resolution` instead",
+                );
+            }
         }
         match self.light_near {
             LightNear::Auto { fraction } => {

@@ -117,10 +117,23 @@ pub fn predict_aliasing(map: &ShadowMap, camera: &Camera, scene: &Aabb, receiver
 pub(crate) fn receiver_aliasing(maps: &[ShadowMap], depths: &[f64], rays: &ReceiverRays) -> [Option<ViewAliasing>; MAX_SPLITS] {
     let mut out = [None; MAX_SPLITS];
     rays.each(depths, |split, s| {
-        let Some(e) = split_map(maps, split, s.p).and_then(|map| aliasing_in(map, s)) else { return };
+        let Some(e) = split_map(maps, split, s.p).and_then(|(_, map)| aliasing_in(map, s)) else { return };
         out[split] = Some(out[split].map_or(ViewAliasing::one(e, s.z), |v: ViewAliasing| v.with(e, s.z)));
     });
     out
+}
+
+/// Each map's predicted maximum aliasing ([`predict_aliasing`]) among the
+/// maps `maps` fitted for the planes `depths`, in `out` (in `maps` order);
+/// 0 for a map no sample lands in.
+pub(crate) fn map_aliasing(maps: &[ShadowMap], depths: &[f64], rays: &ReceiverRays, out: &mut [f64]) {
+    out.fill(0.0);
+    rays.each(depths, |split, s| {
+        let Some((k, map)) = split_map(maps, split, s.p) else { return };
+        if let Some(e) = aliasing_in(map, s) {
+            out[k] = out[k].max(e);
+        }
+    });
 }
 
 /// The receivers of `RECEIVER_RAYS²` camera rays spread evenly over the
@@ -287,10 +300,12 @@ fn toward_light(light: &Light, p: DVec3) -> DVec3 {
 }
 
 /// The active map of `split` that serves the point `p` (for a cube, the
-/// face toward it).
-fn split_map(maps: &[ShadowMap], split: usize, p: DVec3) -> Option<&ShadowMap> {
-    maps.iter().filter(|map| map.split == split && map.fit.state == MapState::Active).find(|map| match (map.face, &map.light) {
-        (Some(f), Light::Spot { position, .. }) => CubeFace::toward(p - *position) == f,
-        _ => true,
+/// face toward it), with its index in `maps`.
+fn split_map(maps: &[ShadowMap], split: usize, p: DVec3) -> Option<(usize, &ShadowMap)> {
+    maps.iter().enumerate().filter(|(_, map)| map.split == split && map.fit.state == MapState::Active).find(|(_, map)| {
+        match (map.face, &map.light) {
+            (Some(f), Light::Spot { position, .. }) => CubeFace::toward(p - *position) == f,
+            _ => true,
+        }
     })
 }

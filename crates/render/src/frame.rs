@@ -45,6 +45,22 @@ impl<'a> RenderRequest<'a> {
         }
     }
 
+    /// Map `m`'s side in texels: its own, or the settings' `shadow_resolution`.
+    pub fn map_resolution(&self, m: &ShadowMapSpec) -> u32 {
+        m.resolution.unwrap_or(self.settings.shadow_resolution)
+    }
+
+    /// The side of the texture array the maps share: the largest map's (the settings'
+    /// `shadow_resolution` for a frame without maps).
+    pub fn array_resolution(&self) -> u32 {
+        self.maps.iter().map(|m| self.map_resolution(m)).max().unwrap_or(self.settings.shadow_resolution)
+    }
+
+    /// The texels the maps hold together, `Σ side²`.
+    pub fn map_texels(&self) -> f64 {
+        self.maps.iter().map(|m| (self.map_resolution(m) as f64).powi(2)).sum()
+    }
+
     /// Whether map `m` is stored as 1 − z: its depth test is not the buffer's.
     pub(crate) fn stores_flipped(&self, m: &ShadowMapSpec) -> bool {
         matches!(self.settings.depth, DepthMode::Projective { .. }) && m.depth_test != self.shadow_buffer_test()
@@ -65,7 +81,7 @@ impl<'a> RenderRequest<'a> {
     }
 }
 
-/// A shadow map as read back: `resolution²` depths, rows top to bottom; NaN where no caster
+/// A shadow map as read back: `resolution²` depths (its own side), rows top to bottom; NaN where no caster
 /// was drawn. Depths are the rasterised values before bias (or the linear depth in linear mode).
 #[derive(Clone, Debug)]
 pub struct DepthMap {

@@ -58,7 +58,7 @@ pub(crate) fn aliasing_stats(req: &RenderRequest, out: &RenderOutput) -> Aliasin
     let mut v: Vec<f64> = counted_aliasing(req, out).map(|(_, e, _)| e).collect();
     let angle_free_max = counted_aliasing(req, out).map(|(_, e, g)| e * g).fold(f64::NAN, f64::max);
     let s = &req.settings;
-    let texels = req.maps.len() as f64 * s.shadow_resolution as f64 * s.shadow_resolution as f64;
+    let texels = req.map_texels();
     let c = &req.camera;
     let bound = crate::bound::min_max_aliasing(s.width, s.height, c.fovy, c.near, c.far, texels).unwrap_or(f64::NAN);
     if v.is_empty() {

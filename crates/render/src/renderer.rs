@@ -384,7 +384,7 @@ impl Renderer {
     pub fn render(&mut self, req: &RenderRequest) -> Result<RenderOutput, RenderError> {
         req.validate()?;
         let s = req.settings;
-        let (w, h, res) = (s.width, s.height, s.shadow_resolution);
+        let (w, h, res) = (s.width, s.height, req.array_resolution());
         let lim = &self.gpu.limits;
         if w > lim.max_texture_dimension_2d || h > lim.max_texture_dimension_2d || res > lim.max_texture_dimension_2d {
             return Err(RenderError::Unsupported {

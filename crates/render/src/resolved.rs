@@ -83,7 +83,7 @@ pub(crate) fn resolved_mask(
             (c, c.inverse())
         })
         .collect();
-    let lookup = Lookup { out, truth, maps, matrices: &matrices, res: settings.shadow_resolution as f64, settings, gt };
+    let lookup = Lookup { out, truth, maps, matrices: &matrices, settings, gt };
     let n = truth.len();
     let mut mask = vec![false; n];
     let threads = std::thread::available_parallelism().map(|t| t.get()).unwrap_or(1).clamp(1, 64);
@@ -112,14 +112,13 @@ struct Lookup<'a> {
     truth: &'a [Visibility],
     maps: &'a [ShadowMapSpec],
     matrices: &'a [(DMat4, DMat4)],
-    res: f64,
     settings: &'a RenderSettings,
     gt: &'a GroundTruth,
 }
 
 impl Lookup<'_> {
     fn pixel_resolved(&self, i: usize) -> bool {
-        let Lookup { out, truth, maps, matrices, res, settings, gt } = *self;
+        let Lookup { out, truth, maps, matrices, settings, gt } = *self;
         let t = truth[i];
         if !matches!(t, Visibility::Lit | Visibility::Occluded) || out.split[i] < 0 {
             return false;
@@ -134,9 +133,10 @@ impl Lookup<'_> {
         }
         let agrees = |q: DVec3| gt.classify(q, n, &out.light) == t;
         let map_agrees = |k: usize| {
-            let Some((m, inv)) = matrices.get(k) else {
+            let (Some((m, inv)), Some(spec)) = (matrices.get(k), maps.get(k)) else {
                 return false;
             };
+            let res = spec.resolution.unwrap_or(settings.shadow_resolution) as f64;
             let c = *m * p.extend(1.0);
             if !(c.w > 0.0) {
                 return false;

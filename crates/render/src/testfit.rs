@@ -100,6 +100,7 @@ pub fn scene_box_map(scene: &Scene, camera: &CameraSpec, light: &LightSpec, aspe
         split: [camera.near as f32, camera.far as f32],
         casters: scene.all_objects(),
         face: None,
+        resolution: None,
     })
 }
 
@@ -139,6 +140,7 @@ pub fn split_maps(scene: &Scene, camera: &CameraSpec, light: &LightSpec, aspect:
             split: [w[0] as f32, w[1] as f32],
             casters: objects_in_clip_box(scene, &mat),
             face: None,
+            resolution: None,
         });
     }
     Ok(out)

@@ -268,6 +268,10 @@ pub struct ShadowMapSpec {
     pub casters: Vec<u32>,
     /// For one face of a point light's cube: which receivers the map answers for.
     pub face: Option<CubeFaceSpec>,
+    /// The map's side in texels, when it has its own (a share of a texel budget); `None`:
+    /// `RenderSettings::shadow_resolution`. Maps share one texture array as wide as the
+    /// largest; a smaller map is drawn into, and looked up in, that layer's top-left corner.
+    pub resolution: Option<u32>,
 }
 
 /// One face of a point light's cube of maps. A face's map holds the casters of the receivers in
@@ -445,6 +449,9 @@ pub(crate) fn validate_maps(maps: &[ShadowMapSpec], object_count: usize) -> Resu
         check_finite(&format!("shadow map {i} split"), &[m.split[0] as f64, m.split[1] as f64])?;
         if m.split[0] > m.split[1] {
             return Err(RenderError::invalid(format!("shadow map {i} split"), format!("start {} > end {}", m.split[0], m.split[1])));
+        }
+        if let Some(r) = m.resolution.filter(|r| !(1..=16384).contains(r)) {
+            return Err(RenderError::invalid(format!("shadow map {i} resolution"), format!("{r} is not within 1..=16384")));
         }
         if let Some(&bad) = m.casters.iter().find(|&&c| c as usize >= object_count) {
             return Err(RenderError::invalid(

@@ -27,6 +27,7 @@ pub(crate) struct MapInfo {
     pub world_to_clip: [f32; 16],
     pub split: [f32; 4],
     pub face: [f32; 4],
+    pub size: [f32; 4],
 }
 
 #[repr(C)]
@@ -102,6 +103,7 @@ mod tests {
                 ("world_to_clip", offset_of!(MapInfo, world_to_clip)),
                 ("split", offset_of!(MapInfo, split)),
                 ("face", offset_of!(MapInfo, face)),
+                ("size", offset_of!(MapInfo, size)),
             ],
         );
         check(

@@ -121,6 +121,13 @@ fn invalid_inputs_are_errors_with_messages() {
             "invalid setting splits.lambda",
         ),
         ("resolution 2", Box::new(|_, _, _, s| s.resolution = 2), "invalid setting resolution"),
+        ("budget sizes 5", Box::new(|_, _, _, s| (s.texel_budget, s.budget_sizes) = (1 << 20, 5)), "not an SfMapSizes value"),
+        ("a budget of 15 texels", Box::new(|_, _, _, s| s.texel_budget = 15), "invalid setting texel_budget.texels"),
+        (
+            "a budget with stable maps",
+            Box::new(|_, _, _, s| (s.texel_budget, s.stable, s.split_scheme) = (1 << 20, 1, SfSplitScheme::SF_SPLIT_LOG as c_int)),
+            "invalid setting texel_budget",
+        ),
         ("NaN f32 origin", Box::new(|_, _, _, s| s.f32_origin[0] = f64::NAN), "invalid setting f32_origin"),
         ("negative psm near", Box::new(|_, _, _, s| s.psm_near = -1.0), "invalid setting psm.near"),
         ("NaN light_near_fixed", Box::new(|_, _, _, s| s.light_near_fixed = f64::NAN), "invalid setting light_near"),

@@ -4,7 +4,7 @@ use super::common::*;
 use crate::*;
 use shadowfocus_focus::{
     caster_planes, cull_casters, fit, fit_prepared_with_state, ClipConvention, CubeFace, DepthRange, DepthTest, FitState, FocusResult,
-    FocusSettings, Footprint, Method, PointMode, PreparedView, ReceiverBoxes, ShadowMap, SplitScheme, UvOrigin,
+    FocusSettings, Footprint, MapSizes, Method, PointMode, PreparedView, ReceiverBoxes, ShadowMap, SplitScheme, TexelBudget, UvOrigin,
 };
 use shadowfocus_geom::{Aabb, Body, Focuser, Frustum};
 use std::ffi::c_int;
@@ -45,6 +45,7 @@ fn assert_same(c: &SfMap, r: &ShadowMap, what: &str) {
     assert_eq!(c.body_vertex_count as usize, r.body().vertices().len(), "{what}: body size");
     assert_eq!(c.depth_clamp != 0, r.fit.depth_clamp, "{what}: depth clamp");
     assert_eq!(c.receiver_footprint != 0, r.fit.footprint != Footprint::Body, "{what}: receiver footprint");
+    assert_eq!(c.resolution, r.fit.resolution, "{what}: resolution");
 }
 
 /// Every combination of the four clip fields (half of them with depth
@@ -171,6 +172,46 @@ fn receiver_boxes_give_the_maps_of_fit() {
             }
         }
     }
+}
+
+/// A texel budget through C: the maps of `fit` with the same budget, bit for
+/// bit (sizes included), for both kinds of sizes, with body and receiver
+/// footprints, every light kind and a point light's cube.
+#[test]
+fn texel_budgets_give_the_maps_of_fit() {
+    let ctx = Ctx::new();
+    let mut out = FocusResult::new();
+    let mut maps = vec![canary_map(); SF_MAX_MAPS as usize];
+    let mut resized = 0;
+    for (sizes, any) in [(SfMapSizes::SF_SIZES_POWER_OF_TWO, false), (SfMapSizes::SF_SIZES_ANY, true)] {
+        for footprint in [0, 1] {
+            for light in lights() {
+                for k in [0, 120] {
+                    let cam = camera(k);
+                    let mut s = settings(SfMethod::SF_METHOD_AUTO, 4);
+                    (s.texel_budget, s.budget_sizes, s.receiver_footprint, s.point_mode) =
+                        (3_000_000, sizes as c_int, footprint, SfPointMode::SF_POINT_CUBE as c_int);
+                    let mut rs = rust_settings(SfMethod::SF_METHOD_AUTO, 4);
+                    let kind = if any { MapSizes::Any } else { MapSizes::PowerOfTwo };
+                    rs.texel_budget = Some(TexelBudget { texels: 3_000_000, sizes: kind });
+                    rs.footprint = if footprint != 0 { Footprint::RECEIVERS } else { Footprint::Body };
+                    rs.point = PointMode::Cube;
+                    let what = format!("{sizes:?}, footprint {footprint}, light kind {}, frame {k}", light.kind);
+                    fit(&rust_camera(&cam), &rust_light(&light), &rust_scene(), &rs, &mut out).unwrap();
+                    let (rc, n) = ctx.fit(&cam, &light, &scene(), &s, &mut maps);
+                    assert_eq!((rc, n), (0, out.maps().len()), "{what}: {}", ctx.error());
+                    let mut used = 0u64;
+                    for (i, (c, r)) in maps.iter().zip(out.maps()).enumerate() {
+                        assert_same(c, r, &format!("{what}, map {i}"));
+                        used += u64::from(c.resolution).pow(2);
+                        resized += usize::from(c.active != 0 && c.resolution != s.resolution);
+                    }
+                    assert!(used <= 3_000_000, "{what}: {used} texels");
+                }
+            }
+        }
+    }
+    assert!(resized > 20, "the budget resized only {resized} maps");
 }
 
 /// One prepared view, two lights: the maps of sf_fit for each.

@@ -130,8 +130,10 @@ fn frame_uniform(req: &RenderRequest, depth: DepthLookup) -> Result<FrameUniform
     let s = &req.settings;
     let view_proj = (req.camera.projection_matrix(req.aspect()) * req.camera.view_matrix()?).as_mat4();
     let (fwd, _, _) = req.camera.basis()?;
-    let mut maps = [MapInfo { world_to_clip: [0.0; 16], split: [0.0; 4], face: [0.0, 0.0, 0.0, -1.0] }; MAX_MAPS];
+    let mut maps = [MapInfo { world_to_clip: [0.0; 16], split: [0.0; 4], face: [0.0, 0.0, 0.0, -1.0], size: [1.0; 4] }; MAX_MAPS];
+    let array = req.array_resolution();
     for (i, m) in req.maps.iter().enumerate() {
+        let side = req.map_resolution(m);
         maps[i] = MapInfo {
             world_to_clip: mat(m.world_to_clip),
             split: [m.split[0], m.split[1], if req.stores_flipped(m) { 1.0 } else { 0.0 }, if depth.greater { -1.0 } else { 1.0 }],
@@ -139,6 +141,7 @@ fn frame_uniform(req: &RenderRequest, depth: DepthLookup) -> Result<FrameUniform
                 Some(c) => [c.light.x as f32, c.light.y as f32, c.light.z as f32, c.index as f32],
                 None => [0.0, 0.0, 0.0, -1.0],
             },
+            size: [side as f32, (side as f64 / array as f64) as f32, 0.0, 0.0],
         };
     }
     let (pcf_mode, pcf_radius) = match s.pcf {
@@ -154,7 +157,7 @@ fn frame_uniform(req: &RenderRequest, depth: DepthLookup) -> Result<FrameUniform
         cam: [req.camera.near as f32, req.camera.far as f32, s.width as f32, s.height as f32],
         lin_a: depth.lin_a,
         lin_b: depth.lin_b,
-        params: [req.maps.len() as f32, s.shadow_resolution as f32, pcf_mode, pcf_radius],
+        params: [req.maps.len() as f32, array as f32, pcf_mode, pcf_radius],
         params2: [s.blend_band, if depth.receiver_plane { 1.0 } else { 0.0 }, RECEIVER_PLANE_CONSTANT, RECEIVER_PLANE_MAX_TAN],
         maps,
     })

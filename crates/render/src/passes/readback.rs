@@ -22,7 +22,7 @@ pub(crate) fn read_frame(
     reduced: Option<&Reduced>,
 ) -> Result<RenderOutput, RenderError> {
     let device = &gpu.device;
-    let (w, h, res) = (req.settings.width, req.settings.height, req.settings.shadow_resolution);
+    let (w, h) = (req.settings.width, req.settings.height);
     let mut rb = Readback::default();
     let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("read-back") });
     let i_world = rb.add(device, &mut enc, &t.world, 0, w, h, 16);
@@ -32,7 +32,15 @@ pub(crate) fn read_frame(
     let i_color = rb.add(device, &mut enc, &t.color, 0, w, h, 4);
     let i_range = reduced.map(|r| rb.add_buffer(device, &mut enc, &r.range, 8));
     let i_maps: Vec<usize> = match &shadow.viz {
-        Some(v) => (0..req.maps.len() as u32).map(|l| rb.add(device, &mut enc, v, l, res, res, 4)).collect(),
+        Some(v) => req
+            .maps
+            .iter()
+            .zip(0..)
+            .map(|(m, l)| {
+                let res = req.map_resolution(m);
+                rb.add(device, &mut enc, v, l, res, res, 4)
+            })
+            .collect(),
         None => Vec::new(),
     };
     gpu.queue.submit([enc.finish()]);
@@ -78,7 +86,7 @@ pub(crate) fn read_frame(
         .map(|(k, &i)| {
             let m = &req.maps[k];
             DepthMap {
-                resolution: res,
+                resolution: req.map_resolution(m),
                 depth: f32s(&data[i]),
                 reversed: req.stores_flipped(m),
                 world_to_clip: m.world_to_clip,

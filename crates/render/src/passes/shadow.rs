@@ -24,6 +24,9 @@ pub(crate) struct ShadowPass {
     viz_views: Vec<wgpu::TextureView>,
     /// The farthest depth: 1, or 0 in a reversed buffer.
     clear: f32,
+    /// Per map, its side in texels: it is drawn into its layer's top-left `side²` texels (the
+    /// rest stays cleared: no caster).
+    sides: Vec<f32>,
 }
 
 impl ShadowPass {
@@ -37,7 +40,7 @@ impl ShadowPass {
         lin_b: [f32; 4],
     ) -> ShadowPass {
         let s = &req.settings;
-        let res = s.shadow_resolution;
+        let res = req.array_resolution();
         let depth = tex2d(
             device,
             "shadow maps",
@@ -80,7 +83,8 @@ impl ShadowPass {
         let layer_views = (0..n).map(|i| layer_view(&depth, i)).collect();
         let viz_views = viz.as_ref().map(|v| (0..n).map(|i| layer_view(v, i)).collect()).unwrap_or_default();
         let clear = if req.shadow_buffer_test() == DepthTest::Greater { 0.0 } else { 1.0 };
-        ShadowPass { depth, viz, ranges, bind_group, layer_views, viz_views, clear }
+        let sides = req.maps.iter().map(|m| req.map_resolution(m) as f32).collect();
+        ShadowPass { depth, viz, ranges, bind_group, layer_views, viz_views, clear, sides }
     }
 
     /// The depth layers as the array the main pass samples.
@@ -107,6 +111,7 @@ impl ShadowPass {
                 multiview_mask: None,
             });
             pass.set_pipeline(pipeline);
+            pass.set_viewport(0.0, 0.0, self.sides[i], self.sides[i], 0.0, 1.0);
             pass.set_bind_group(0, &self.bind_group, &[(i as u64 * UNIFORM_STRIDE) as u32]);
             geometry.bind(&mut pass);
             for r in &self.ranges[i] {

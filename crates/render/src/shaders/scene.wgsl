@@ -11,6 +11,9 @@ struct MapInfo {
     // A point light's cube face: xyz = the light, w = the face (0 = +x, 1 = −x, …, 5 = −z);
     // w = −1 for every other map.
     face: vec4<f32>,
+    // x = the map's side in texels; y = x over the array's side: a map smaller than the array
+    // lies in its layer's top-left corner.
+    size: vec4<f32>,
 };
 
 struct Frame {
@@ -22,7 +25,7 @@ struct Frame {
     lin_a: vec4<f32>,
     // x = linear mode (0 = projective depth)
     lin_b: vec4<f32>,
-    // x = map count, y = shadow resolution, z = pcf (0 off, 1 hardware, 2 kernel), w = kernel radius
+    // x = map count, y = the shadow array's side in texels, z = pcf (0 off, 1 hardware, 2 kernel), w = kernel radius
     params: vec4<f32>,
     // x = blend band (fraction of split length), y = receiver-plane bias on (1) / off (0),
     // z = its constant term (map depth units), w = largest tan θ its slope term follows
@@ -106,8 +109,16 @@ fn map_answers(i: u32, p: vec3<f32>) -> bool {
 // drawn up to the far face), which the unclamped reference would fail against — a false shadow
 // along the far edge of every map whose farthest point from the light is a receiver (a sun behind
 // the viewer, at each split's far end).
+//
+// NOTE: the coordinates are clamped to the outermost texel centres, then scaled into the map's
+// corner of its layer. For a map as wide as the array this is what clamp-to-edge addressing
+// reads anyway (bilinear weights past the last centre fall on the edge texel); for a smaller one
+// it keeps the taps off the cleared texels beyond its corner, so it is sampled as a whole map.
 fn compare_tap(i: u32, uv: vec2<f32>, r: f32) -> f32 {
-    return textureSampleCompareLevel(shadow_tex, cmp, uv, i, clamp(r, 0.0, 1.0));
+    let size = f.maps[i].size;
+    let half = 0.5 / size.x;
+    let at = clamp(uv, vec2<f32>(half), vec2<f32>(1.0 - half)) * size.y;
+    return textureSampleCompareLevel(shadow_tex, cmp, at, i, clamp(r, 0.0, 1.0));
 }
 
 // A bound on the rounding of a receiver's projective depth: z = c.z / c.w is evaluated in f32
@@ -148,9 +159,9 @@ fn depth_rounding(m: mat4x4<f32>, p: vec3<f32>, z: f32, w: f32) -> f32 {
 // precision of rasterisation (vertices snap to at least 1/16 texel), and a constant term for the
 // depth format (params2.z). No larger bias is needed, so light leaks at contacts stay within that
 // sixteenth of a texel. The tilt is capped at tan θ = params2.w.
-fn plane_slope(m: mat4x4<f32>, c: vec4<f32>, n: vec3<f32>, flipped: bool) -> vec2<f32> {
+fn plane_slope(m: mat4x4<f32>, c: vec4<f32>, n: vec3<f32>, flipped: bool, res: f32) -> vec2<f32> {
     let k = 1.0 / (c.w * c.w);
-    let hr = 0.5 * f.params.y;
+    let hr = 0.5 * res;
     let mx = vec3<f32>(m[0].x, m[1].x, m[2].x);
     let my = vec3<f32>(m[0].y, m[1].y, m[2].y);
     let mz = vec3<f32>(m[0].z, m[1].z, m[2].z);
@@ -178,7 +189,7 @@ fn plane_slope(m: mat4x4<f32>, c: vec4<f32>, n: vec3<f32>, flipped: bool) -> vec
 fn plane_taps(i: u32, st: vec2<f32>, o: vec2<f32>, r: f32, g: vec2<f32>, bias: f32) -> f32 {
     let base = floor(st - 0.5) + 0.5;
     let t = st - base;
-    let inv = 1.0 / f.params.y;
+    let inv = 1.0 / f.maps[i].size.x;
     var sum = 0.0;
     for (var dy = 0; dy < 2; dy = dy + 1) {
         for (var dx = 0; dx < 2; dx = dx + 1) {
@@ -198,7 +209,7 @@ fn shadow_lookup(i: u32, p: vec3<f32>, n: vec3<f32>) -> f32 {
     let c = m * vec4<f32>(p, 1.0);
     let ndc = c.xyz / c.w;
     let uv = vec2<f32>(0.5 + 0.5 * ndc.x, 0.5 - 0.5 * ndc.y);
-    let res = f.params.y;
+    let res = f.maps[i].size.x;
     let mode = u32(f.params.z);
     let k = i32(f.params.w);
     let texel = 1.0 / res;
@@ -218,7 +229,7 @@ fn shadow_lookup(i: u32, p: vec3<f32>, n: vec3<f32>) -> f32 {
         r = r + s * depth_rounding(m, p, ndc.z, c.w);
         if (f.params2.y > 0.5) {
             // Receiver-plane bias; the sampler is the nearest one (see `Renderer::render`).
-            let g = plane_slope(m, c, n, flipped);
+            let g = plane_slope(m, c, n, flipped, res);
             let bias = -s * (f.params2.z + 0.0625 * (abs(g.x) + abs(g.y)));
             let st = uv * res;
             if (mode == 0u) {
@@ -260,7 +271,7 @@ fn aliasing(i: u32, p: vec3<f32>, dx: vec3<f32>, dy: vec3<f32>) -> f32 {
     let c = m * vec4<f32>(p, 1.0);
     let cx = m * vec4<f32>(dx, 0.0);
     let cy = m * vec4<f32>(dy, 0.0);
-    let k = 0.5 * f.params.y / (c.w * c.w);
+    let k = 0.5 * f.maps[i].size.x / (c.w * c.w);
     let tx = k * (cx.xy * c.w - c.xy * cx.w);
     let ty = k * (cy.xy * c.w - c.xy * cy.w);
     let det = abs(tx.x * ty.y - tx.y * ty.x);
