@@ -65,7 +65,9 @@ fn fitting_a_frame_does_not_allocate() {
                         // Receiver boxes with the receiver fit (they cut R, and
                         // the optimal placement predicts on them).
                         let receivers = if depth_clamp { receiver_boxes } else { ReceiverBoxes::NONE };
-                        let s = FocusSettings { method, stable, depth_clamp, splits, receivers, ..Default::default() };
+                        // A texel budget with them too (stable maps refuse one).
+                        let texel_budget = depth_clamp.then_some(TexelBudget { texels: 4 * 1024 * 1024, sizes: MapSizes::Any });
+                        let s = FocusSettings { method, stable, depth_clamp, splits, receivers, texel_budget, ..Default::default() };
                         let a0 = allocations();
                         fit(&cam, light, &scene, &s, out).unwrap();
                         let a1 = allocations();

@@ -10,7 +10,8 @@ use libfuzzer_sys::fuzz_target;
 use shadowfocus_cli::cli::case::parse_case;
 use shadowfocus_cli::cli::fit::{case_camera, fit_case, prepare_case, run};
 use shadowfocus_cli::focus::{
-    fit_prepared, FocusResult, FocusSettings, Method, PointMode, PreparedView, ReceiverBoxes, SplitScheme, SplitSettings,
+    fit_prepared, FocusResult, FocusSettings, MapSizes, Method, PointMode, PreparedView, ReceiverBoxes, SplitScheme, SplitSettings,
+    TexelBudget,
 };
 use shadowfocus_cli::geom::{Aabb, DVec3};
 use shadowfocus_fuzz::check_result_lines;
@@ -33,12 +34,19 @@ fn settings(k: usize) -> FocusSettings {
     // miss the scene altogether).
     let slab = Aabb { min: DVec3::new(-50.0, -1.0, -50.0), max: DVec3::new(50.0, 0.0, 50.0) };
     let receivers = if k % 7 == 3 { ReceiverBoxes::new(&[slab]).unwrap_or_default() } else { ReceiverBoxes::NONE };
+    // Now and then a texel budget, of either kind of size, from one map's
+    // worth up (stable fits refuse it, with the error both paths must give).
+    let texel_budget = (k % 3 == 1).then(|| TexelBudget {
+        texels: [16_384, 1 << 22, 3 << 20][(k / 3) % 3],
+        sizes: if (k / 9) % 2 == 0 { MapSizes::Any } else { MapSizes::PowerOfTwo },
+    });
     FocusSettings {
         method,
         splits: SplitSettings { count, scheme, delta_bias: 0.0 },
         point,
         stable: k % 5 == 0,
         receivers,
+        texel_budget,
         ..FocusSettings::default()
     }
 }

@@ -731,3 +731,49 @@ fn predicted_aliasing_takes_receivers_on_their_boxes() {
     let bad = Aabb { min: DVec3::ONE, max: DVec3::ZERO };
     assert!(matches!(ReceiverBoxes::new(&[slab, bad]), Err(FocusError::InvalidSettings { what: "receivers", .. })));
 }
+
+/// A texel budget sizes the maps by their predicted aliasing: over a sweep
+/// of suns, with the practical planes (whose splits are uneven) and the
+/// optimal ones, the worst predicted screen pixels per texel
+/// (`e / resolution`) is never above the equal maps' for the same texels,
+/// the budget holds, and the sizes differ where the predictions do.
+#[test]
+fn a_texel_budget_evens_the_predicted_aliasing() {
+    let (cam, scene) = (camera(), scene());
+    let worst = |out: &FocusResult, boxes: &[Aabb]| {
+        let mut worst = 0.0f64;
+        for m in out.maps().iter().filter(|m| m.is_active()) {
+            if let Some(p) = predict_aliasing(m, &cam, &scene, boxes) {
+                worst = worst.max(p.max / m.fit.resolution as f64);
+            }
+        }
+        worst
+    };
+    let ground = [Aabb::new(DVec3::new(-50.0, 0.0, -100.0), DVec3::new(50.0, 0.5, 20.0)).unwrap()];
+    let (mut uneven, mut cases) = (0, 0);
+    for scheme in [PRACTICAL, SplitScheme::Optimal] {
+        for boxes in [&[][..], &ground[..]] {
+            for k in 0..12 {
+                let a = k as f64 * 0.52;
+                let light = Light::directional(DVec3::new(a.cos(), -0.3 - 0.2 * (k % 3) as f64, a.sin())).unwrap();
+                let equal = FocusSettings {
+                    method: Method::Lispsm,
+                    resolution: 512,
+                    splits: SplitSettings { count: 4, scheme, ..Default::default() },
+                    receivers: ReceiverBoxes::new(boxes).unwrap(),
+                    ..FocusSettings::default()
+                };
+                let texels = 4 * 512 * 512;
+                let shared = FocusSettings { resolution: 1024, texel_budget: Some(TexelBudget { texels, sizes: MapSizes::Any }), ..equal };
+                let (a, b) = (fit1(&cam, &light, &scene, &equal), fit1(&cam, &light, &scene, &shared));
+                let sides: Vec<u64> = b.maps().iter().filter(|m| m.is_active()).map(|m| u64::from(m.fit.resolution)).collect();
+                assert!(sides.iter().map(|s| s * s).sum::<u64>() <= texels, "{sides:?}");
+                let (wa, wb) = (worst(&a, boxes), worst(&b, boxes));
+                assert!(wb <= wa * (1.0 + 1e-9), "{scheme:?}, light {k}: worst {wa} → {wb} with sides {sides:?}");
+                uneven += usize::from(sides.iter().any(|&s| s != sides[0]));
+                cases += 1;
+            }
+        }
+    }
+    assert!(uneven * 4 >= cases * 3, "the sizes differ in only {uneven} of {cases} fits");
+}

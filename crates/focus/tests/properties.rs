@@ -23,6 +23,18 @@ fn check_frame(cam: &Camera, light: &Light, scene: &Aabb, s: &FocusSettings, out
     prop_assert_eq!(d[0], cam.near);
     prop_assert_eq!(d[d.len() - 1], cam.far);
     prop_assert!(d.windows(2).all(|w| w[0] <= w[1]), "splits not monotone: {:?}", d);
+    // Every active map has a size: the resolution, or its share of the
+    // budget, which the active maps keep within (an allowed size each).
+    let sizes: Vec<u32> = out.maps().iter().filter(|m| m.is_active()).map(|m| m.fit.resolution).collect();
+    prop_assert!(out.maps().iter().all(|m| m.is_active() || m.fit.resolution == 0));
+    match s.texel_budget {
+        None => prop_assert!(sizes.iter().all(|&r| r == s.resolution), "{:?}", sizes),
+        Some(b) => {
+            prop_assert!(sizes.iter().map(|&r| u64::from(r).pow(2)).sum::<u64>() <= b.texels, "{:?} over {}", sizes, b.texels);
+            prop_assert!(sizes.iter().all(|&r| (4..=s.resolution).contains(&r)), "{:?}", sizes);
+            prop_assert!(b.sizes == MapSizes::Any || sizes.iter().all(|r| r.is_power_of_two()), "{:?}", sizes);
+        }
+    }
     // Camera clip depths in the convention's range, increasing away from
     // the eye (decreasing with reversed-Z).
     let z_min = s.clip.depth_min();
@@ -425,7 +437,6 @@ proptest! {
         let d = b.split_depths();
         let basis = cam.basis().unwrap();
         let t = (0.5 * cam.fovy).tan();
-        let inner = 1.0 - 2.0 * margin / r.resolution as f64;
         let reach = (scene.max - scene.min).length();
         for k in 0..64 {
             let fx = ((k * 37) % 64) as f64 / 63.0 * 2.0 - 1.0;
@@ -451,7 +462,9 @@ proptest! {
                 (Some(f), Light::Point { position }) => CubeFace::toward(p - position) == f,
                 _ => true,
             };
+            // The margin is in each map's own texels (a budget sizes them).
             let within_margin = |m: &ShadowMap| {
+                let inner = 1.0 - 2.0 * margin / m.fit.resolution as f64;
                 let c = m.fit.clip_from_world * p.extend(1.0);
                 own_face(m) && inside_map_f64(&m.fit, p) && (c.x / c.w).abs().max((c.y / c.w).abs()) <= inner * (1.0 + 1e-9)
             };
@@ -583,9 +596,10 @@ proptest! {
     /// texels.
     #[test]
     fn stable_maps_move_by_whole_texels((cam, scene, light) in frame_strategy(), s in settings_strategy(), method in prop_oneof![Just(Method::Uniform), Just(Method::Lispsm), Just(Method::Tsm)], step in (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64), turn in -0.02..0.02f64, held in any::<bool>()) {
-        // Optimal placement refuses stable maps (its planes move).
+        // Optimal placement and texel budgets refuse stable maps (their
+        // planes and sizes move).
         let scheme = if s.splits.scheme == SplitScheme::Optimal { SplitScheme::Log } else { s.splits.scheme };
-        let s = FocusSettings { stable: true, method, splits: SplitSettings { scheme, ..s.splits }, ..s };
+        let s = FocusSettings { stable: true, method, splits: SplitSettings { scheme, ..s.splits }, texel_budget: None, ..s };
         let res = s.resolution as f64;
         let scale = (scene.max - scene.min).length() * 1e-3;
         let mut prev: Option<(FocusResult, [WarpHold; MAX_MAPS])> = None;

@@ -81,6 +81,7 @@ fn aliasing_matches_the_analytic_footprint_ratio() {
         split: [1.0, 50.0],
         casters: vec![0],
         face: None,
+        resolution: None,
     }];
     let mut req = RenderRequest::new(&scene, &maps);
     small(&mut req, 128, 128, 512);
@@ -198,6 +199,43 @@ fn aliasing_halves_when_the_shadow_resolution_doubles() {
     assert!((r95 - 0.5).abs() < 0.05, "p95 ratio {r95}");
     // A uniform map over a 700 m board is undersampled near the viewer: e > 1 somewhere.
     assert!(a.max > 1.0, "{a:?}");
+}
+
+/// A map drawn into the corner of a larger array (its own `resolution`, beside a larger map)
+/// is rasterised, looked up and read back as the same map in an array of its own size: the
+/// same depths, shadow terms and aliasing, pixel for pixel.
+#[test]
+fn a_map_in_a_corner_of_a_larger_array_is_the_map_of_its_own_size() {
+    let scene = builtin_scene("huge-chessboard").unwrap();
+    let (w, h) = (192, 108);
+    let own = testfit::split_maps(&scene, &scene.camera, &scene.light, aspect(w, h), 3).unwrap();
+    let mut req = RenderRequest::new(&scene, &own);
+    small(&mut req, w, h, 256);
+    req.settings.ground_truth = false;
+    req.settings.save_shadow_maps = true;
+    let Some(alone) = render(&req) else { return };
+    // The same three maps at 256² each, then a 1024² map that answers for no receiver (w < 0
+    // everywhere) and draws nothing: the array is 1024² and the three sit in its corners.
+    let mut cornered: Vec<ShadowMapSpec> = own.iter().map(|m| ShadowMapSpec { resolution: Some(256), ..m.clone() }).collect();
+    let nowhere = Mat4::from_cols_array(&[0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0]);
+    cornered.push(ShadowMapSpec { world_to_clip: nowhere, casters: Vec::new(), resolution: Some(1024), ..own[0].clone() });
+    req.maps = &cornered;
+    req.settings.shadow_resolution = 64;
+    let big = render(&req).unwrap();
+    assert_eq!(big.shadow_maps[3].resolution, 1024);
+    for k in 0..3 {
+        let (a, b) = (&alone.shadow_maps[k], &big.shadow_maps[k]);
+        assert_eq!((a.resolution, b.resolution), (256, 256), "map {k}");
+        let bits = |d: &[f32]| d.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&a.depth), bits(&b.depth), "map {k}: depths");
+        assert!(a.depth.iter().filter(|d| !d.is_nan()).count() > 1000, "map {k} drew casters");
+    }
+    let differ = |x: &[f32], y: &[f32]| x.iter().zip(y).filter(|(a, b)| a.to_bits() != b.to_bits()).count();
+    assert_eq!(differ(&alone.shadow, &big.shadow), 0, "shadow terms");
+    assert_eq!(differ(&alone.aliasing, &big.aliasing), 0, "aliasing");
+    assert!(alone.shadow.iter().filter(|&&v| v < 0.5).count() > 500, "the frame has shadows to compare");
+    // The bound counts the texels of every map: 3·256² + 1024².
+    assert!(big.metrics.aliasing.bound < alone.metrics.aliasing.bound);
 }
 
 #[test]
@@ -335,6 +373,11 @@ fn bad_requests_are_typed_errors() {
     let mut req = RenderRequest::new(&scene, &maps);
     req.light = LightSpec::Directional { direction: DVec3::ZERO };
     assert!(req.validate().is_err());
+    for bad in [0, 16385] {
+        let sized = [ShadowMapSpec { resolution: Some(bad), ..good.clone() }];
+        let err = RenderRequest::new(&scene, &sized).validate().unwrap_err().to_string();
+        assert!(err.contains("shadow map 0 resolution"), "{err}");
+    }
     let many = vec![good; MAX_MAPS + 1];
     assert!(RenderRequest::new(&scene, &many).validate().is_err());
     assert!(BackendChoice::parse("metal").is_err());

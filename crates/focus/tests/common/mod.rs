@@ -132,8 +132,12 @@ pub fn method_strategy() -> impl Strategy<Value = Method> {
 }
 
 pub fn settings_strategy() -> impl Strategy<Value = FocusSettings> {
-    (method_strategy(), 1..=4usize, 0..5u8, 0.0..1.0f64, any::<bool>(), any::<bool>(), any::<bool>(), clip_strategy()).prop_map(
-        |(method, count, scheme, lambda, stable, middle, cube, clip)| FocusSettings {
+    // A third of the fits share a texel budget (never with stable maps,
+    // which refuse it): enough for every map of a cube at the largest
+    // receiver margin the properties ask for.
+    let budget = prop_oneof![2 => Just(None), 1 => ((1u64 << 20)..(1u64 << 24), any::<bool>()).prop_map(Some)];
+    (method_strategy(), 1..=4usize, 0..5u8, 0.0..1.0f64, any::<bool>(), any::<bool>(), any::<bool>(), clip_strategy(), budget).prop_map(
+        |(method, count, scheme, lambda, stable, middle, cube, clip, budget)| FocusSettings {
             method,
             splits: SplitSettings {
                 count,
@@ -156,6 +160,9 @@ pub fn settings_strategy() -> impl Strategy<Value = FocusSettings> {
             },
             point: if cube { PointMode::Cube } else { PointMode::Single },
             clip,
+            texel_budget: budget
+                .filter(|_| !stable)
+                .map(|(texels, any)| TexelBudget { texels, sizes: if any { MapSizes::Any } else { MapSizes::PowerOfTwo } }),
             ..FocusSettings::default()
         },
     )
