@@ -218,6 +218,7 @@ fn result_json(case: &Case, settings: &FocusSettings, r: &FocusResult) -> Value 
                 "matrix": m.fit.clip_from_world.to_cols_array(),
                 "depth_test": m.fit.depth_test.name(),
                 "texel_size": m.fit.texel_size.map(|t| if t.is_finite() { Value::from(t) } else { Value::Null }),
+                "resolution": m.fit.resolution,
                 "utilisation": m.utilisation(),
                 "light_near": m.light_near,
                 "body": {"dimension": body.dimension().as_i32(), "vertices": vertices},
