@@ -43,7 +43,9 @@ pub struct SweepOptions {
     /// split count (lispsm4: four practical λ = 0.5 splits with the texel
     /// budget of one map, i.e. R/2 per side each), optionally with @SCHEME
     /// for the split planes (auto4@optimal, lispsm4@geometric:10); with
-    /// -stable, stable maps compared with uniform-stable (lispsm-stable).
+    /// -stable, stable maps compared with uniform-stable (lispsm-stable); with
+    /// -shared, the splits share one map's texels by predicted aliasing
+    /// (auto4-shared: each split its own size, at most R per side).
     #[arg(long, value_delimiter = ',', default_value = "uniform,psm,lispsm,tsm,lispsm4", value_parser = parse_sweep_method)]
     pub methods: Vec<SweepMethod>,
     /// Sun elevations above the horizon, degrees.
@@ -96,6 +98,9 @@ pub struct SweepMethod {
     /// The split scheme (`@SCHEME`, as `--scheme` takes it); `None`: the
     /// default.
     pub scheme: Option<String>,
+    /// The splits share the method's texels by predicted aliasing
+    /// (`-shared`, `--budget`), each at most the single map's side.
+    pub shared: bool,
 }
 
 /// `uniform`, `psm`, `lispsm`, `tsm`, or one of them followed by a split
@@ -103,6 +108,13 @@ pub struct SweepMethod {
 /// also with `-stable` for stable maps (`lispsm-stable`).
 pub fn parse_sweep_method(s: &str) -> Result<SweepMethod, String> {
     let t = s.trim().to_ascii_lowercase();
+    if let Some(base) = t.strip_suffix("-shared") {
+        let m = parse_sweep_method(base)?;
+        if m.splits < 2 || m.stable {
+            return Err(format!("sweep method {s:?}: -shared needs a split count and no -stable (auto4-shared)"));
+        }
+        return Ok(SweepMethod { name: format!("{}-shared", m.name), shared: true, ..m });
+    }
     if let Some(base) = t.strip_suffix("-stable") {
         let m = parse_sweep_method(base)?;
         return Ok(SweepMethod { name: format!("{}-stable", m.name), stable: true, ..m });
@@ -131,18 +143,24 @@ pub fn parse_sweep_method(s: &str) -> Result<SweepMethod, String> {
         k.parse::<usize>().ok().filter(|k| (1..=16).contains(k)).ok_or_else(|| format!("sweep method {s:?}: split count must be 1–16"))?
     };
     let name = if splits == 1 { m.to_string() } else { format!("{m}{splits}") };
-    Ok(SweepMethod { name, method, splits, sdsm: false, receiver_boxes: false, stable: false, scheme: None })
+    Ok(SweepMethod { name, method, splits, sdsm: false, receiver_boxes: false, stable: false, scheme: None, shared: false })
 }
 
 impl SweepMethod {
     /// Fit options at a texel budget of `resolution`² for the whole method
-    /// (k splits get resolution/√k per side each: R/2 for four).
+    /// (k splits get resolution/√k per side each: R/2 for four; shared, each
+    /// its own size within `resolution`² in all, at most `resolution`).
     pub fn options(&self, resolution: u32) -> FitOptions {
-        let res = if self.splits == 1 { resolution } else { ((resolution as f64 / (self.splits as f64).sqrt()).round() as u32).max(1) };
+        let res = if self.splits == 1 || self.shared {
+            resolution
+        } else {
+            ((resolution as f64 / (self.splits as f64).sqrt()).round() as u32).max(1)
+        };
         FitOptions {
             method: self.method,
             splits: self.splits,
             resolution: res,
+            budget: self.shared.then_some(u64::from(resolution).pow(2)),
             sdsm: self.sdsm,
             receiver_boxes: self.receiver_boxes,
             stable: self.stable,
@@ -718,6 +736,13 @@ mod tests {
         assert!(parse_sweep_method("lispsm@optimal").unwrap_err().contains("needs a split count"));
         assert!(parse_sweep_method("lispsm4@sideways").unwrap_err().contains("unknown split scheme"));
         assert!(parse_sweep_method("lispsm4@geometric:-1").unwrap_err().contains("splits.first"));
+        // Shared: one map's texels among the splits, each at most one map's side.
+        let s = parse_sweep_method("auto4-shared").unwrap();
+        let o = s.options(1024);
+        assert_eq!((s.name.as_str(), o.resolution, o.budget), ("auto4-shared", 1024, Some(1024 * 1024)));
+        assert!(o.settings().unwrap().texel_budget.is_some());
+        assert!(parse_sweep_method("auto-shared").unwrap_err().contains("needs a split count"));
+        assert!(parse_sweep_method("lispsm4-stable-shared").unwrap_err().contains("no -stable"));
     }
 
     fn row(method: &str, adequate: f64, ratio: f64) -> SweepRow {
