@@ -17,6 +17,13 @@
 //!   stays within `T`); then the texels left go, one step at a time, to the
 //!   map whose `e_i/r_i` is largest among those whose next size still fits.
 //!
+//! No map falls below half the side of an equal share, `√(T/n)/2`: the
+//! prediction can miss a split's receivers (without receiver boxes, the
+//! scene box's faces stand in for them, and where those are empty it judges
+//! the split on nothing), and this floor bounds what such a miss costs at
+//! 2× that split's aliasing, where an unbounded share gave a split 4 texels
+//! and 40× (the light sweep's duelling frusta, sun ahead).
+//!
 //! The prediction is taken on the fitted maps (receiver footprints
 //! included) at the settings' resolution. A receiver footprint's margin is
 //! a number of texels, so a resized map's image is grown or shrunk about its
@@ -50,12 +57,13 @@ pub(crate) fn share_texels(out: &mut FocusResult, view: &PreparedView, rays: &Re
         Footprint::Body => 0.0,
         Footprint::Receivers { margin_texels } => margin_texels,
     };
-    let bounds = size_bounds(budget.sizes, margin, settings.resolution);
     let mut count = 0;
     for k in (0..n).filter(|&k| active[k]) {
         aliasing[count] = aliasing[k];
         count += 1;
     }
+    let [lo, hi] = size_bounds(budget.sizes, margin, settings.resolution);
+    let bounds = [lo.max(half_share(budget, count, hi)), hi];
     share_seen(&aliasing[..count], budget, bounds, &mut sizes[..count])?;
     let mut next = sizes[..count].iter();
     for map in out.maps_and_work().0.iter_mut().filter(|m| m.fit.state == MapState::Active) {
@@ -96,6 +104,17 @@ fn share_seen(aliasing: &[f64], budget: TexelBudget, [lo, hi]: [u32; 2], sizes: 
         *s = if e > 0.0 { next.next().copied().unwrap_or(equal) } else { equal };
     }
     Ok(())
+}
+
+/// The least allowed side of at least half an equal share's, `√(T/n)/2`
+/// (at most `hi`), for `n` maps.
+fn half_share(budget: TexelBudget, n: usize, hi: u32) -> u32 {
+    let half = (0.5 * (budget.texels as f64 / n.max(1) as f64).sqrt()).ceil() as u32;
+    let up = match budget.sizes {
+        MapSizes::Any => half,
+        MapSizes::PowerOfTwo => half.next_power_of_two(),
+    };
+    up.min(hi)
 }
 
 /// The least and greatest side a map may take: at least
@@ -285,6 +304,20 @@ mod tests {
         let mut out = [0; 3];
         let err = allocate(&[1.0; 3], TexelBudget { texels: 47, sizes: POW2 }, [4, 64], &mut out).unwrap_err();
         assert!(err.to_string().contains("texel_budget.texels"), "{err}");
+    }
+
+    #[test]
+    fn no_map_falls_below_half_an_equal_share() {
+        let any = TexelBudget { texels: 4 * 512 * 512, sizes: MapSizes::Any };
+        assert_eq!(half_share(any, 4, 4096), 256);
+        assert_eq!(half_share(TexelBudget { sizes: POW2, ..any }, 4, 4096), 256);
+        assert_eq!(half_share(TexelBudget { texels: 3 * 700 * 700, sizes: POW2 }, 3, 4096), 512);
+        assert_eq!(half_share(any, 4, 200), 200);
+        // A map predicted 100× better than the others still gets half a share.
+        let mut sizes = [0; 4];
+        share_seen(&[1.0, 1.0, 1.0, 0.01], any, [half_share(any, 4, 2048), 2048], &mut sizes).unwrap();
+        assert_eq!(sizes[3], 256, "{sizes:?}");
+        assert!(sizes.iter().map(|&s| u64::from(s).pow(2)).sum::<u64>() <= any.texels);
     }
 
     #[test]

@@ -34,8 +34,8 @@
 //! far end where a ray is still inside one there), and a ray that meets
 //! none has no sample.
 
-use crate::project::image_area_scale;
 use crate::project::post_perspective;
+use crate::project::{image_area_scale, light_factor};
 use crate::receiver_rays::{clip_ray, first_box};
 use crate::split_view::SplitView;
 use glam::{DMat4, DVec3, DVec4};
@@ -50,9 +50,11 @@ pub(crate) struct Samples {
     /// The scene box face the camera ray leaves through at each sample;
     /// `None` where the ray reaches the far plane first.
     face: [Option<DVec3>; MAX_SAMPLES],
-    /// The receiver's unit normal at each sample (after [`Samples::judge`]):
-    /// the face's, or the light's ray there where there is no face.
-    normal: [DVec3; MAX_SAMPLES],
+    /// The unit light ray at each sample, and the light's factor on the
+    /// receiver there ([`light_factor`] of the face's normal, 1 where there
+    /// is no face) (after [`Samples::judge`]).
+    ray: [DVec3; MAX_SAMPLES],
+    light: [f64; MAX_SAMPLES],
     /// The camera's area magnification `a_C` at each sample (after
     /// [`Samples::judge`]).
     camera: [f64; MAX_SAMPLES],
@@ -107,7 +109,8 @@ impl Samples {
         let mut s = Samples {
             pts: [DVec3::ZERO; MAX_SAMPLES],
             face: [None; MAX_SAMPLES],
-            normal: [DVec3::Z; MAX_SAMPLES],
+            ray: [DVec3::Z; MAX_SAMPLES],
+            light: [1.0; MAX_SAMPLES],
             camera: [0.0; MAX_SAMPLES],
             clip_from_world: post_perspective(sv.camera, &sv.basis, 0.0),
             reference: [1.0; MAX_SAMPLES],
@@ -147,13 +150,13 @@ impl Samples {
     pub fn judge(&mut self, reference: &DMat4, lp: DVec4) -> Option<Predicted> {
         let mut k = 0;
         for i in 0..self.len {
-            let n = self.face[i].unwrap_or_else(|| {
-                let t = self.pts[i] * lp.w - lp.truncate();
-                t / t.length()
-            });
+            let t = self.pts[i] * lp.w - lp.truncate();
+            let ray = t / t.length();
+            let n = self.face[i].unwrap_or(ray);
             self.pts[k] = self.pts[i];
             self.face[k] = self.face[i];
-            self.normal[k] = n;
+            self.ray[k] = ray;
+            self.light[k] = light_factor(n.dot(ray).abs());
             self.camera[k] = image_area_scale(&self.clip_from_world, self.pts[i], n);
             let e = self.aliasing(reference, k);
             if e.is_finite() && e > 0.0 {
@@ -167,7 +170,7 @@ impl Samples {
 
     /// Aliasing of `m` at sample `i` (as `e` above, up to the common factor).
     fn aliasing(&self, m: &DMat4, i: usize) -> f64 {
-        (self.camera[i] / image_area_scale(m, self.pts[i], self.normal[i])).sqrt()
+        (self.camera[i] / image_area_scale(m, self.pts[i], self.ray[i])).sqrt() * self.light[i]
     }
 
     /// The prediction for the clip matrix `m` of the light given to

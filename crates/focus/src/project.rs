@@ -376,6 +376,34 @@ pub(crate) fn texel_size(m: &DMat4, light: DVec4, p: DVec3, res: u32) -> f64 {
     }
 }
 
+/// The light's grazing angle below which a receiver's predicted aliasing
+/// fades out: `cos θ` of 85° (θ the angle of incidence), sin 5°.
+pub(crate) const GRAZING_COS: f64 = 0.087_155_742_747_658_17;
+
+/// The light's factor in a receiver's predicted aliasing: with `c = cos θ`,
+/// `1/√c` down to [`GRAZING_COS`], then `√c / GRAZING_COS`, which meets it
+/// there and falls to 0 at grazing.
+///
+/// A shadow map projects along the light rays, so on a receiver with unit
+/// normal `n` its area scale is `a_M(p, n) = a_M(p, ℓ)·|n·ℓ|` (`ℓ` the unit
+/// light ray at `p`): the aliasing is `√(a_C / a_M(p, ℓ)) / √c`, the same
+/// `1/√c` for every map. As the light grazes a receiver that factor grows
+/// without bound whatever the map, while the receiver darkens to nothing
+/// (Lambert's `c`) and its shadow edges with it; past 85° the factor is
+/// weighed by that contrast, `c / GRAZING_COS`, so that it is continuous and
+/// vanishes where the receiver turns away from the light (and stops being
+/// one). Without this, a scene box wall parallel to a sun in the camera's
+/// vertical plane (lit by 10⁻¹⁷ after rounding) predicted 10⁸ screen pixels
+/// per texel and placed the split planes alone, and the same wall lit by 0
+/// was no receiver at all.
+pub(crate) fn light_factor(c: f64) -> f64 {
+    if c >= GRAZING_COS {
+        1.0 / c.sqrt()
+    } else {
+        c.max(0.0).sqrt() / GRAZING_COS
+    }
+}
+
 /// How much `m`'s image (`x/w`, `y/w`) magnifies areas on the plane
 /// through `p` perpendicular to the unit vector `t`: `|det|` of the image
 /// Jacobian restricted to that plane; NaN where `w ≤ 0` at `p`.

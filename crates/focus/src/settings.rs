@@ -79,6 +79,8 @@ pub enum SplitScheme {
 /// active map's size follows its predicted maximum aliasing
 /// ([`crate::predict_aliasing`]), so that the maps' maxima come out as even
 /// as the sizes allow: [`SplitScheme::Optimal`]'s rule, applied to sizes.
+/// No map's side falls below half an equal share's (`√(texels / maps) / 2`),
+/// so that a split whose receivers the prediction misses loses at most 2×.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct TexelBudget {

@@ -22,7 +22,7 @@
 //! walls. Casters (and a terrain above the box's floor) stand in front of
 //! those faces; they are the part the prediction misses.
 
-use crate::project::{image_area_scale, post_perspective};
+use crate::project::{image_area_scale, light_factor, post_perspective};
 use crate::receiver_rays::{Hit, ReceiverModel};
 use crate::result::{CubeFace, MapState, ShadowMap};
 use crate::MAX_SPLITS;
@@ -154,14 +154,16 @@ pub(crate) struct ReceiverRays<'a> {
     samples: [[Option<Sample>; RECEIVER_RAYS]; RECEIVER_RAYS],
 }
 
-/// A receiver sample: point, unit normal toward the camera, view depth, and
-/// the camera's area magnification there (`a_C`, the same for every map).
+/// A receiver sample: point, view depth, the camera's area magnification
+/// there on the receiver's face (`a_C`, the same for every map), the unit
+/// light ray, and the light's factor on the receiver ([`light_factor`]).
 #[derive(Clone, Copy)]
 pub(crate) struct Sample {
     p: DVec3,
-    n: DVec3,
     z: f64,
     camera_area: f64,
+    ray: DVec3,
+    light: f64,
 }
 
 impl<'a> ReceiverRays<'a> {
@@ -211,7 +213,11 @@ impl<'a> ReceiverRays<'a> {
         let d = self.ray(i, gy);
         let n = DVec3::AXES[h.axis] * -d[h.axis].signum();
         let p = self.camera.eye + d * h.z;
-        (n.dot(toward_light(self.light, p)) > 0.0).then(|| Sample { p, n, z: h.z, camera_area: image_area_scale(&self.camera_clip, p, n) })
+        let l = toward_light(self.light, p);
+        (n.dot(l) > 0.0).then(|| {
+            let ray = l.normalize();
+            Sample { p, z: h.z, camera_area: image_area_scale(&self.camera_clip, p, n), ray, light: light_factor(n.dot(ray)) }
+        })
     }
 
     /// Calls `f(split, sample)` for each receiver sample that faces the
@@ -287,7 +293,7 @@ fn aliasing_in(map: &ShadowMap, s: &Sample) -> Option<f64> {
             return None;
         }
     }
-    let e = (s.camera_area / image_area_scale(&map.fit.clip_from_world, s.p, s.n)).sqrt();
+    let e = (s.camera_area / image_area_scale(&map.fit.clip_from_world, s.p, s.ray)).sqrt() * s.light;
     Some(if e.is_nan() { f64::INFINITY } else { e })
 }
 
