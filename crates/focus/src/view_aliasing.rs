@@ -8,7 +8,10 @@
 //! (`project::image_area_scale`), and a `W×H` image and a `T×T` map turn
 //! those into pixels (`W·H/4` per unit area) and texels (`T²/4`). The
 //! prediction keeps the dimensionless first factor; [`ViewAliasing::in_pixels`]
-//! applies the second.
+//! applies the second. On a receiver the light grazes by more than 85° the
+//! prediction fades out with the receiver's light (`project::light_factor`):
+//! there every map's aliasing grows without bound while the shadow's
+//! contrast vanishes.
 //!
 //! Where the receivers are is what the fit does not know, unless the
 //! engine passes their boxes ([`crate::ReceiverBoxes`]): then each camera
