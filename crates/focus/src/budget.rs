@@ -21,8 +21,9 @@
 //! prediction can miss a split's receivers (without receiver boxes, the
 //! scene box's faces stand in for them, and where those are empty it judges
 //! the split on nothing), and this floor bounds what such a miss costs at
-//! 2× that split's aliasing, where an unbounded share gave a split 4 texels
-//! and 40× (the light sweep's duelling frusta, sun ahead).
+//! 2× that split's aliasing, where an unbounded share once gave a split 11
+//! texels a side and the frame 47× the equal maps' maximum (the light
+//! sweep's duelling frusta, a sun ahead).
 //!
 //! The prediction is taken on the fitted maps (receiver footprints
 //! included) at the settings' resolution. A receiver footprint's margin is

@@ -128,12 +128,13 @@ pub(crate) fn receiver_aliasing(maps: &[ShadowMap], depths: &[f64], rays: &Recei
 
 /// Each map's predicted maximum aliasing ([`predict_aliasing`]) among the
 /// maps `maps` fitted for the planes `depths`, in `out` (in `maps` order);
-/// 0 for a map no sample lands in.
+/// 0 for a map no sample lands in. A sample a map cannot see (infinite
+/// aliasing: none of its sides would show it) is left out.
 pub(crate) fn map_aliasing(maps: &[ShadowMap], depths: &[f64], rays: &ReceiverRays, out: &mut [f64]) {
     out.fill(0.0);
     rays.each(depths, |split, s| {
         let Some((k, map)) = split_map(maps, split, s.p) else { return };
-        if let Some(e) = aliasing_in(map, s) {
+        if let Some(e) = aliasing_in(map, s).filter(|e| e.is_finite()) {
             out[k] = out[k].max(e);
         }
     });
