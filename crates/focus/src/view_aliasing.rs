@@ -219,7 +219,9 @@ impl<'a> ReceiverRays<'a> {
         let p = self.camera.eye + d * h.z;
         let l = toward_light(self.light, p);
         (n.dot(l) > 0.0).then(|| {
-            let ray = l.normalize();
+            // NOTE: scaled by its largest component first, so that a light
+            // direction of any magnitude (down to 2⁻¹⁰⁰⁰) normalises.
+            let ray = (l / l.abs().max_element()).normalize();
             Sample { p, z: h.z, camera_area: image_area_scale(&self.camera_clip, p, n), ray, light: light_factor(n.dot(ray)) }
         })
     }
