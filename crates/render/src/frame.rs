@@ -47,7 +47,7 @@ impl<'a> RenderRequest<'a> {
 
     /// Map `m`'s side in texels: its own, or the settings' `shadow_resolution`.
     pub fn map_resolution(&self, m: &ShadowMapSpec) -> u32 {
-        m.resolution.unwrap_or(self.settings.shadow_resolution)
+        m.resolution_or(self.settings.shadow_resolution)
     }
 
     /// The side of the texture array the maps share: the largest map's (the settings'

@@ -136,7 +136,7 @@ impl Lookup<'_> {
             let (Some((m, inv)), Some(spec)) = (matrices.get(k), maps.get(k)) else {
                 return false;
             };
-            let res = spec.resolution.unwrap_or(settings.shadow_resolution) as f64;
+            let res = spec.resolution_or(settings.shadow_resolution) as f64;
             let c = *m * p.extend(1.0);
             if !(c.w > 0.0) {
                 return false;

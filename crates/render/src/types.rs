@@ -274,6 +274,13 @@ pub struct ShadowMapSpec {
     pub resolution: Option<u32>,
 }
 
+impl ShadowMapSpec {
+    /// The map's side in texels: its own, or `default` (the frame's `shadow_resolution`).
+    pub fn resolution_or(&self, default: u32) -> u32 {
+        self.resolution.unwrap_or(default)
+    }
+}
+
 /// One face of a point light's cube of maps. A face's map holds the casters of the receivers in
 /// its own 90° cone only, while its fitted image may reach past the cone into its neighbours'; a
 /// receiver is therefore looked up in the face of its direction from the light, as a cube map

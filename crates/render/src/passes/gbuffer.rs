@@ -157,7 +157,7 @@ fn frame_uniform(req: &RenderRequest, depth: DepthLookup) -> Result<FrameUniform
         cam: [req.camera.near as f32, req.camera.far as f32, s.width as f32, s.height as f32],
         lin_a: depth.lin_a,
         lin_b: depth.lin_b,
-        params: [req.maps.len() as f32, array as f32, pcf_mode, pcf_radius],
+        params: [req.maps.len() as f32, 0.0, pcf_mode, pcf_radius],
         params2: [s.blend_band, if depth.receiver_plane { 1.0 } else { 0.0 }, RECEIVER_PLANE_CONSTANT, RECEIVER_PLANE_MAX_TAN],
         maps,
     })

@@ -25,7 +25,7 @@ struct Frame {
     lin_a: vec4<f32>,
     // x = linear mode (0 = projective depth)
     lin_b: vec4<f32>,
-    // x = map count, y = the shadow array's side in texels, z = pcf (0 off, 1 hardware, 2 kernel), w = kernel radius
+    // x = map count, y unused (each map's side is in its MapInfo), z = pcf (0 off, 1 hardware, 2 kernel), w = kernel radius
     params: vec4<f32>,
     // x = blend band (fraction of split length), y = receiver-plane bias on (1) / off (0),
     // z = its constant term (map depth units), w = largest tan θ its slope term follows
