@@ -39,7 +39,7 @@ use crate::project::{image_area_scale, light_factor};
 use crate::receiver_rays::{clip_ray, first_box};
 use crate::split_view::SplitView;
 use glam::{DMat4, DVec3, DVec4};
-use shadowfocus_geom::Body;
+use shadowfocus_geom::{unit_direction, Body};
 
 /// Most samples: one point on each of nine rays.
 pub(crate) const MAX_SAMPLES: usize = 9;
@@ -150,8 +150,7 @@ impl Samples {
     pub fn judge(&mut self, reference: &DMat4, lp: DVec4) -> Option<Predicted> {
         let mut k = 0;
         for i in 0..self.len {
-            let t = self.pts[i] * lp.w - lp.truncate();
-            let ray = t / t.length();
+            let ray = unit_direction(self.pts[i] * lp.w - lp.truncate());
             let n = self.face[i].unwrap_or(ray);
             self.pts[k] = self.pts[i];
             self.face[k] = self.face[i];

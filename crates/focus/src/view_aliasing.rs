@@ -30,7 +30,7 @@ use crate::receiver_rays::{Hit, ReceiverModel};
 use crate::result::{CubeFace, MapState, ShadowMap};
 use crate::MAX_SPLITS;
 use glam::{DMat4, DVec3};
-use shadowfocus_geom::{Aabb, Camera, CameraBasis, Light};
+use shadowfocus_geom::{unit_direction, Aabb, Camera, CameraBasis, Light};
 
 /// Camera rays per image side: the receivers are sampled on
 /// `RECEIVER_RAYS²` rays spread evenly over the image.
@@ -219,9 +219,9 @@ impl<'a> ReceiverRays<'a> {
         let p = self.camera.eye + d * h.z;
         let l = toward_light(self.light, p);
         (n.dot(l) > 0.0).then(|| {
-            // NOTE: scaled by its largest component first, so that a light
-            // direction of any magnitude (down to 2⁻¹⁰⁰⁰) normalises.
-            let ray = (l / l.abs().max_element()).normalize();
+            // NOTE: `unit_direction` normalises a light direction of any
+            // magnitude (down to 2⁻¹⁰⁰⁰), as the fit's own light frame does.
+            let ray = unit_direction(l);
             Sample { p, z: h.z, camera_area: image_area_scale(&self.camera_clip, p, n), ray, light: light_factor(n.dot(ray)) }
         })
     }
