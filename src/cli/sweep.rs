@@ -303,6 +303,10 @@ pub struct SweepRow {
     /// without a uniform row).
     pub p95_ratio: f64,
     pub max_ratio: f64,
+    /// The largest of the maps' predicted maximum aliasing, in screen pixels
+    /// per texel (`render`'s `predicted_aliasing_px`; NaN where no map
+    /// predicts any).
+    pub predicted_max: f64,
 }
 
 impl SweepRow {
@@ -384,6 +388,7 @@ pub fn sweep(
                 notes: Vec::new(),
                 p95_ratio: f64::NAN,
                 max_ratio: f64::NAN,
+                predicted_max: f64::NAN,
             };
             progress(rows.len() + 1, total, &row.label());
             let (out, extra) =
@@ -399,6 +404,7 @@ pub fn sweep(
             let names = |k: &str| {
                 fit[k].as_array().map_or(Vec::new(), |a| a.iter().filter_map(|v| v.as_str().map(str::to_owned)).collect::<Vec<_>>())
             };
+            row.predicted_max = predicted_max(&extra["predicted_aliasing_px"]);
             row.notes = names("notes");
             row.notes.extend(names("skipped").into_iter().map(|s| format!("skipped:{s}")));
             rows.push(row);
@@ -415,6 +421,12 @@ pub fn sweep(
         }
     }
     Ok(Sweep { scene: scene.name.clone(), plan: plan.clone(), adapter: renderer.adapter().clone(), rows })
+}
+
+/// The largest of the maps' predictions in `render`'s `predicted_aliasing_px`
+/// (NaN where there is none).
+fn predicted_max(per_map: &Value) -> f64 {
+    per_map.as_array().map_or(f64::NAN, |a| a.iter().filter_map(Value::as_f64).fold(f64::NAN, f64::max))
 }
 
 /// Mismatch among adequately sampled pixels above which a configuration is
@@ -461,7 +473,7 @@ fn num(x: f64) -> String {
 
 /// `sweep.csv`.
 pub fn csv(sweep: &Sweep) -> String {
-    let mut s = String::from("scene,method,elevation_deg,azimuth_deg,resolution,maps,aliasing_max,aliasing_p95,aliasing_mean,mismatch_rate,rate_off_edges,rate_adequate,adequate_pixels,utilisation_mean,utilisation_min,p95_ratio_to_uniform,max_ratio_to_uniform,notes\n");
+    let mut s = String::from("scene,method,elevation_deg,azimuth_deg,resolution,maps,aliasing_max,aliasing_p95,aliasing_mean,predicted_max,mismatch_rate,rate_off_edges,rate_adequate,adequate_pixels,utilisation_mean,utilisation_min,p95_ratio_to_uniform,max_ratio_to_uniform,notes\n");
     for r in &sweep.rows {
         let m = &r.mismatch;
         let fields = [
@@ -474,6 +486,7 @@ pub fn csv(sweep: &Sweep) -> String {
             num(r.aliasing.max),
             num(r.aliasing.p95),
             num(r.aliasing.mean),
+            num(r.predicted_max),
             num(m.rate),
             num(m.rate_off_edges),
             num(m.rate_adequate),
@@ -509,7 +522,8 @@ pub fn summary(sweep: &Sweep, worst_rows: &[usize]) -> Value {
             json!({
                 "method": r.method, "elevation_deg": jnum(r.elevation), "azimuth_deg": jnum(r.azimuth), "light": r.light,
                 "resolution": r.resolution, "maps": r.maps,
-                "aliasing": {"max": jnum(r.aliasing.max), "p95": jnum(r.aliasing.p95), "mean": jnum(r.aliasing.mean), "pixels": r.aliasing.pixels},
+                "aliasing": {"max": jnum(r.aliasing.max), "p95": jnum(r.aliasing.p95), "mean": jnum(r.aliasing.mean), "pixels": r.aliasing.pixels,
+                             "predicted_max": jnum(r.predicted_max)},
                 "mismatch": {"rate": jnum(m.rate), "rate_off_edges": jnum(m.rate_off_edges), "rate_adequate": jnum(m.rate_adequate),
                              "pixels": m.pixels, "off_edge_pixels": m.off_edge_pixels, "adequate_pixels": m.adequate_pixels,
                              "false_shadow": m.false_shadow, "false_light": m.false_light},
@@ -764,6 +778,7 @@ mod tests {
             notes: vec!["a,b".into()],
             p95_ratio: ratio,
             max_ratio: ratio,
+            predicted_max: f64::NAN,
         }
     }
 
