@@ -9,8 +9,8 @@
 //!     all agree with the pixel's ground truth), at most 0.5 % of pixels are
 //!     wrong (judged where there are at least `MIN_ADEQUATE_PIXELS` = 400 of
 //!     them, which must be most configurations);
-//! (b) LiSPSM's and TSM's p95 and maximum aliasing are within 1.1× of the
-//!     uniform map's at the same configuration, and PSM's too unless its fit
+//! (b) LiSPSM's, TSM's and Auto's p95 and maximum aliasing are within 1.1×
+//!     of the uniform map's at the same configuration, and PSM's too unless its fit
 //!     reports that it fell back to a uniform map; stable LiSPSM's and TSM's
 //!     within 1.1× of the stable uniform map's.
 //!
@@ -29,7 +29,7 @@ const RES: u32 = 1024;
 /// `shadowfocus sweep`'s default grid.
 const ELEVATIONS: [f64; 3] = [10.0, 35.0, 65.0];
 const AZIMUTHS: [f64; 12] = [0.0, 30.0, 60.0, 90.0, 120.0, 150.0, 180.0, 210.0, 240.0, 270.0, 300.0, 330.0];
-const METHODS: [&str; 5] = ["uniform", "psm", "lispsm", "tsm", "lispsm4"];
+const METHODS: [&str; 6] = ["uniform", "psm", "lispsm", "tsm", "auto", "lispsm4"];
 /// The stable maps (PSM has none), each judged against `uniform-stable`.
 const STABLE_METHODS: [&str; 3] = ["uniform-stable", "lispsm-stable", "tsm-stable"];
 /// Largest p95 and maximum aliasing of a warped map over the uniform one's.
@@ -73,7 +73,7 @@ fn violations(s: &Sweep) -> Vec<String> {
             ));
         }
         let judged = match r.method.as_str() {
-            "lispsm" | "tsm" | "lispsm-stable" | "tsm-stable" => true,
+            "lispsm" | "tsm" | "auto" | "lispsm-stable" | "tsm-stable" => true,
             "psm" => !r.has_note("psm_fell_back_to_uniform"),
             _ => false,
         };

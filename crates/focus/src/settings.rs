@@ -23,7 +23,9 @@ pub enum Method {
     Tsm,
     /// Per map, whichever of the four has the least predicted maximum
     /// aliasing over the split's receivers ([`crate::MapFit::method`] says
-    /// which). With `stable`, the stable uniform map.
+    /// which); for a single map, LiSPSM with its warp swept stronger than
+    /// `n_opt` where that predicts less ([`crate::MapFit::warp_near`] says
+    /// how strong). With `stable`, the stable uniform map.
     Auto,
 }
 

@@ -821,3 +821,35 @@ fn a_sun_in_the_cameras_vertical_plane_fits_the_same_either_side() {
         }
     }
 }
+
+/// Over a sweep of suns, Auto sometimes takes LiSPSM with its warp swept
+/// stronger than `n_opt` (at most 2⁴ times); a weaker LiSPSM map is only
+/// ever the warp guard's (`n_opt` weakened by whole octaves); and a swept
+/// map holds its body like any other (`fit1`). The camera looks down on a
+/// floor, so the samples lie on it and the sweep has receivers to judge by.
+#[test]
+fn auto_sweeps_the_lispsm_warp_only_stronger() {
+    let cam = Camera { eye: DVec3::new(0.0, 3.0, 10.0), forward: DVec3::new(0.0, -0.3, -1.0), ..camera() };
+    let free = |method| FocusSettings { method, warp_guard: false, ..FocusSettings::default() };
+    let (auto, lispsm) = (FocusSettings { method: Method::Auto, ..FocusSettings::default() }, free(Method::Lispsm));
+    let mut swept = 0;
+    for k in 0..72 {
+        let (az, el) = (f64::from(k % 12) * 30f64.to_radians(), [15.0f64, 40.0, 70.0, 85.0, 25.0, 55.0][k as usize / 12].to_radians());
+        let light = Light::directional(DVec3::new(az.sin() * el.cos(), -el.sin(), az.cos() * el.cos())).unwrap();
+        let (a, l) = (fit1(&cam, &light, &scene(), &auto), fit1(&cam, &light, &scene(), &lispsm));
+        let (a, n_opt) = (&a.maps()[0].fit, l.maps()[0].fit.warp_near);
+        if a.method == Method::Lispsm && a.warp_near < n_opt {
+            assert!(a.warp_near >= n_opt / 16.0 * (1.0 - 1e-12), "az {az} el {el}: n {} below n_opt {n_opt} / 2⁴", a.warp_near);
+            swept += 1;
+        } else if a.method == Method::Lispsm && a.warp_near.is_finite() {
+            // The warp guard's: n_opt weakened by whole octaves.
+            let octaves = (a.warp_near / n_opt).log2();
+            assert!(
+                octaves >= 0.0 && (octaves - octaves.round()).abs() < 1e-9,
+                "az {az} el {el}: n {} is n_opt {n_opt}·2^{octaves}",
+                a.warp_near
+            );
+        }
+    }
+    assert!(swept > 0, "no sun gave a swept warp");
+}

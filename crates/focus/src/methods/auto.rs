@@ -5,18 +5,30 @@
 //! own warp guard (so each is already no worse than the uniform map by the
 //! prediction) — is fitted to the same body and judged on the same receiver
 //! samples ([`Samples`]: where nine camera rays leave the body's box, with
-//! the receivers' normals there, the warp guard's own). The least predicted maximum wins; a tie
-//! goes to the earlier candidate, so the uniform map is kept unless a warp
-//! is strictly better. Without samples (the split sees nothing of the
-//! body's box) the uniform map is kept.
+//! the receivers' normals there, the warp guard's own). The least predicted
+//! maximum wins; a tie goes to the earlier candidate, so the uniform map is
+//! kept unless a warp is strictly better. Without samples (the split sees
+//! nothing of the body's box) the uniform map is kept.
+//!
+//! For a single map over the whole view, LiSPSM's warp strength is then
+//! swept continuously above `n_opt`'s (`warp::swept_warp`): `n_opt` balances
+//! the view's near and far ends on the view axis, the swept warp on the
+//! receiver samples. The swept map replaces the best candidate where its
+//! predicted maximum is lower and its mean and typical sample are no worse.
+//! Splits are not swept: a split spans a bounded depth ratio, where `n_opt`
+//! is already close to the balance (with four splits on fixed planes the
+//! sweep changed no built-in scene's render), and optimal planes are placed
+//! by refitting every split, where a sweep that switches on and off between
+//! rounds moves the planes without lowering the worst split.
 //!
 //! NOTE: the prediction is the quantity the renderer measures per pixel up
 //! to a factor common to every map of one light and one split (the screen
 //! and map resolutions), so comparing the candidates needs no absolute
 //! scale.
 
+use super::lispsm::lispsm_swept;
 use super::{fit_body_shared, light_point, Fitted, SplitView};
-use crate::predict::Samples;
+use crate::predict::{Predicted, Samples};
 use crate::settings::{FocusSettings, Method};
 use crate::state::Held;
 use shadowfocus_geom::{Body, Light};
@@ -28,15 +40,17 @@ const CANDIDATES: [Method; 4] = [Method::Uniform, Method::Lispsm, Method::Tsm, M
 pub(super) fn auto(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted> {
     let lp = light_point(light);
     let mut samples = Samples::new(sv, body);
-    let mut best: Option<(Fitted, f64)> = None;
-    // LiSPSM and TSM along the same view vector share their frame and
-    // their guard's reference and samples (the maps are those each fits
-    // alone, bit for bit).
-    let mut share = None;
+    let mut best: Option<(Fitted, Predicted)> = None;
+    // The uniform map, TSM and PSM share the light's frame along the view
+    // direction, LiSPSM and its sweep the frame along its warp direction,
+    // with their guards' references and samples (the maps are those each
+    // fits alone, bit for bit).
+    let (mut along_view, mut along_warp) = (None, None);
     for method in CANDIDATES {
         let settings = FocusSettings { method, ..*sv.settings };
         let view = SplitView { camera: sv.camera, basis: sv.basis, settings: &settings };
-        let Some(f) = fit_body_shared(&view, light, body, &Held::NONE, &mut share) else { continue };
+        let share = if method == Method::Lispsm { &mut along_warp } else { &mut along_view };
+        let Some(f) = fit_body_shared(&view, light, body, &Held::NONE, share) else { continue };
         let predicted = if method == Method::Uniform { samples.judge(&f.m, lp) } else { samples.predict(&f.m) };
         let Some(p) = predicted else {
             // Nothing to judge by: the uniform map, or the first that fits.
@@ -46,8 +60,20 @@ pub(super) fn auto(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted>
             continue;
         };
         // NOTE: NaN (a sample the map cannot see) fails the comparison.
-        if best.as_ref().is_none_or(|(_, max)| p.max < *max) {
-            best = Some((f, p.max));
+        if best.as_ref().is_none_or(|(_, b)| p.max < b.max) {
+            best = Some((f, p));
+        }
+    }
+    // LiSPSM with its warp strength swept, for a map that covers the whole
+    // view: taken where it lowers the best maximum and is no worse in the
+    // mean and the typical sample either.
+    if sv.settings.splits.count == 1 {
+        let settings = FocusSettings { method: Method::Lispsm, ..*sv.settings };
+        let view = SplitView { camera: sv.camera, basis: sv.basis, settings: &settings };
+        if let Some((f, p)) = lispsm_swept(&view, light, body, &mut along_warp, &samples) {
+            if best.as_ref().is_some_and(|(_, b)| p.max < b.max && p.no_worse_than(b)) {
+                best = Some((f, p));
+            }
         }
     }
     best.map(|(f, _)| f)

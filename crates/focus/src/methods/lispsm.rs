@@ -3,8 +3,9 @@
 //! practical formulation gives it [SCH05]; the warp direction is the view
 //! direction or the middle vector.
 
-use super::warp::{warped, Frame, WarpShare};
+use super::warp::{swept_warp, warped, Frame, WarpShare};
 use super::{image, image_scale, Fitted, SplitView};
+use crate::predict::{Predicted, Samples};
 use crate::settings::WarpDirection;
 use crate::state::WarpHold;
 use glam::{DMat4, DVec3};
@@ -12,38 +13,61 @@ use shadowfocus_geom::{Body, Camera, Dimension, Light};
 
 /// The LiSPSM map of `body` (`share`: see [`WarpShare`]).
 pub(super) fn lispsm(sv: &SplitView, light: &Light, body: &Body, hold: &WarpHold, share: &mut Option<WarpShare>) -> Option<Fitted> {
+    let v = warp_direction(sv, body);
+    warped(sv, light, body, v, hold, share, |fr: &Frame| n_opt_warp(sv, body, v, fr))
+}
+
+/// LiSPSM with its warp strength swept instead of `n_opt`'s, for
+/// [`crate::Method::Auto`]: the map whose predicted maximum aliasing over
+/// `samples` is least (see [`swept_warp`]), with that maximum.
+pub(super) fn lispsm_swept(
+    sv: &SplitView,
+    light: &Light,
+    body: &Body,
+    share: &mut Option<WarpShare>,
+    samples: &Samples,
+) -> Option<(Fitted, Predicted)> {
+    let v = warp_direction(sv, body);
+    swept_warp(sv, light, body, v, share, samples, |fr: &Frame| n_opt_warp(sv, body, v, fr))
+}
+
+/// The warp's view vector: the view direction or the middle vector.
+fn warp_direction(sv: &SplitView, body: &Body) -> DVec3 {
+    let f = sv.basis.forward;
+    match sv.settings.lispsm.warp {
+        WarpDirection::MiddleVector => (centroid(body) - sv.camera.eye).try_normalize().unwrap_or(f),
+        WarpDirection::ViewProjected => f,
+    }
+}
+
+/// `(ε, ξ_c)` of `n_opt` [SCH05] in the frame `fr` along `v`.
+fn n_opt_warp(sv: &SplitView, body: &Body, v: DVec3, fr: &Frame) -> (f64, f64) {
     let s = sv.settings;
     let cam = sv.camera;
     let f = sv.basis.forward;
-    let v = match s.lispsm.warp {
-        WarpDirection::MiddleVector => (centroid(body) - cam.eye).try_normalize().unwrap_or(f),
-        WarpDirection::ViewProjected => f,
-    };
     let verts = body.vertices();
-    warped(sv, light, body, v, hold, share, |fr: &Frame| {
-        let Frame { m, lp, p_ref, eta: (eta0, eta1), .. } = *fr;
-        let zn = cam.near;
-        let kappa = image_scale(&m, p_ref);
-        let travel = (p_ref * lp.w - lp.truncate()).normalize_or_zero();
-        // sin γ, γ the angle between the light and the (warp) view vector.
-        let sin_g = v.cross(travel).length();
-        let zmin = verts.iter().map(|p| f.dot(*p - cam.eye)).fold(f64::INFINITY, f64::min);
-        // z0: view depth of H's nearest point, not before the near plane.
-        let z0 = zmin.max(zn);
-        let mut dz = if kappa > 0.0 { (eta1 - eta0) / kappa } else { 0.0 };
-        if let Some(vf) = s.lispsm.visible_far {
-            if vf < cam.far && kappa > 0.0 {
-                dz = dz.min(visible_extent(&m, cam, vf) / kappa);
-            }
+    let Frame { m, lp, p_ref, eta: (eta0, eta1), .. } = *fr;
+    let zn = cam.near;
+    let kappa = image_scale(&m, p_ref);
+    let travel = (p_ref * lp.w - lp.truncate()).normalize_or_zero();
+    // sin γ, γ the angle between the light and the (warp) view vector.
+    let sin_g = v.cross(travel).length();
+    let zmin = verts.iter().map(|p| f.dot(*p - cam.eye)).fold(f64::INFINITY, f64::min);
+    // z0: view depth of H's nearest point, not before the near plane.
+    let z0 = zmin.max(zn);
+    let mut dz = if kappa > 0.0 { (eta1 - eta0) / kappa } else { 0.0 };
+    if let Some(vf) = s.lispsm.visible_far {
+        if vf < cam.far && kappa > 0.0 {
+            dz = dz.min(visible_extent(&m, cam, vf) / kappa);
         }
-        // ε = 1/n_opt = sin γ / (z_n + √(z0 (z0 + Δz))): no division by
-        // sin γ, so γ → 0 fades continuously into ε = 0 (uniform).
-        let eps_world = sin_g / (zn + (z0 * (z0 + dz)).sqrt());
-        let eps = if kappa > 0.0 && eps_world.is_finite() { eps_world / kappa } else { 0.0 };
-        let (xe, _, we) = image(&m, cam.eye);
-        let xi_c = if we > 0.0 { xe } else { image(&m, p_ref).0 };
-        (eps, xi_c)
-    })
+    }
+    // ε = 1/n_opt = sin γ / (z_n + √(z0 (z0 + Δz))): no division by
+    // sin γ, so γ → 0 fades continuously into ε = 0 (uniform).
+    let eps_world = sin_g / (zn + (z0 * (z0 + dz)).sqrt());
+    let eps = if kappa > 0.0 && eps_world.is_finite() { eps_world / kappa } else { 0.0 };
+    let (xe, _, we) = image(&m, cam.eye);
+    let xi_c = if we > 0.0 { xe } else { image(&m, p_ref).0 };
+    (eps, xi_c)
 }
 
 /// Centroid of the body (volume, area, length or point), a continuous

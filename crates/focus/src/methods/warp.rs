@@ -201,6 +201,110 @@ fn choose_warp(sv: &SplitView, light: &Light, body: &Body, share: &mut WarpShare
     Some(best)
 }
 
+/// Octaves of ε above the method's own that [`swept_warp`] walks, and the
+/// golden-section steps that narrow the octave it stops in (each by 0.618).
+const SWEEP_OCTAVES: i32 = 4;
+const SWEEP_REFINE: u32 = 4;
+
+/// The warp along `v` with its strength swept upward, for
+/// [`crate::Method::Auto`]: of the warps `ε = ε_m · 2^k`, `ε_m` the
+/// method's own (from `warp_of`) and `0 ≤ k ≤ SWEEP_OCTAVES` continuous,
+/// the one with the least predicted maximum aliasing over the judged
+/// `samples`, with its prediction; `None` where the method has no warp
+/// (`ε_m = 0`), no warp sees every sample, or the best would cost the f32
+/// guarantee that the uniform map keeps.
+///
+/// Only stronger warps are tried: the samples take each ray's receiver at
+/// its far end or where it enters a receiver box, and a nearer receiver
+/// favours a stronger warp, so the prediction errs toward weak warps. A
+/// stronger warp it still prefers is preferred by the receivers actually
+/// seen; a weaker one it prefers may be an artefact of the far samples
+/// (the warp guard already weakens a warp the prediction finds worse than
+/// the uniform map).
+///
+/// NOTE: each sample's aliasing is monotone in ε (a stronger warp enlarges
+/// texels far from the apex and shrinks them near it), so their maximum
+/// falls and then rises: a walk over whole octaves from `k = 0` brackets
+/// its minimum, and golden-section steps narrow the bracket.
+pub(super) fn swept_warp(
+    sv: &SplitView,
+    light: &Light,
+    body: &Body,
+    v: DVec3,
+    share: &mut Option<WarpShare>,
+    samples: &Samples,
+    warp_of: impl FnOnce(&Frame) -> (f64, f64),
+) -> Option<(Fitted, Predicted)> {
+    let s = sv.settings;
+    let share = WarpShare::along(share, sv, light, body, v)?;
+    let verts = body.vertices();
+    let frame = share.frame(sv, light, verts)?;
+    let reference = share.reference(sv, verts)?;
+    let (eps_m, xi_c) = warp_of(&frame);
+    if !(eps_m.is_finite() && eps_m > 0.0) {
+        return None;
+    }
+    let warp = |k: f64| Warp { epsilon: eps_m * k.exp2(), xi_c, eta0: frame.eta.0 };
+    // NOTE: a map that misses a sample (a NaN mean) scores infinity, so it
+    // is never the least.
+    let score = |k: f64| {
+        let p = crop_estimate(&apply_warp(&frame.m, &warp(k)), verts).and_then(|e| samples.predict(&e));
+        p.filter(|p| p.mean.is_finite()).map_or(f64::INFINITY, |p| p.max)
+    };
+    let (k, at) = least_octave(score, SWEEP_OCTAVES);
+    // NOTE: where neither the first octave nor half of it lowers the
+    // score, the minimum of a score that falls and then rises lies close
+    // to `k = 0`, the method's own map, which is a candidate already: three
+    // scores spent, nothing swept.
+    if k == 0.0 && !(score(0.5) < at) {
+        return None;
+    }
+    let (k, at) = golden_section(score, (k - 1.0).max(0.0), k + 1.0, SWEEP_REFINE, (k, at));
+    if !at.is_finite() {
+        return None;
+    }
+    let w = warp(k);
+    let cropped = crop(&apply_warp(&frame.m, &w), verts, s.f32_origin, s.clip).filter(|c| c.f32_exact || !reference.f32_exact)?;
+    let predicted = samples.predict(&cropped.m)?;
+    let mut out = Fitted::plain(cropped, s.method);
+    out.warp_near = 1.0 / w.epsilon;
+    Some((out, predicted))
+}
+
+/// The whole `k` in `0..=octaves` where `score` stops falling, walking up
+/// from 0, with its score.
+fn least_octave(score: impl Fn(f64) -> f64, octaves: i32) -> (f64, f64) {
+    let (mut k, mut at) = (0.0, score(0.0));
+    while k < octaves as f64 {
+        let next = score(k + 1.0);
+        if !(next < at) {
+            break;
+        }
+        (k, at) = (k + 1.0, next);
+    }
+    (k, at)
+}
+
+/// Golden-section search for the least `score` on `[a, b]`, `steps`
+/// steps; the best of its points and `start`.
+fn golden_section(score: impl Fn(f64) -> f64, mut a: f64, mut b: f64, steps: u32, start: (f64, f64)) -> (f64, f64) {
+    const INV_PHI: f64 = 0.618_033_988_749_894_9;
+    let (mut c, mut d) = (b - INV_PHI * (b - a), a + INV_PHI * (b - a));
+    let (mut fc, mut fd) = (score(c), score(d));
+    for _ in 0..steps {
+        if fc < fd {
+            (b, d, fd) = (d, c, fc);
+            c = b - INV_PHI * (b - a);
+            fc = score(c);
+        } else {
+            (a, c, fc) = (c, d, fd);
+            d = a + INV_PHI * (b - a);
+            fd = score(d);
+        }
+    }
+    [(c, fc), (d, fd)].into_iter().fold(start, |best, x| if x.1 < best.1 { x } else { best })
+}
+
 /// `m` turned so that image `y` follows the image of the direction `v` at
 /// `p`; `None` where that image is shorter than 2⁻²⁶ of the image scale
 /// (v all but parallel to the light ray at `p`).
@@ -215,4 +319,30 @@ fn align_to(m: &DMat4, p: DVec3, v: DVec3) -> Option<DMat4> {
         return None;
     }
     Some(rotate_image(m, d / len))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{golden_section, least_octave};
+
+    #[test]
+    fn the_octave_walk_brackets_a_v_shaped_minimum_and_the_section_narrows_it() {
+        for m in [0.0, 0.37, 1.0, 2.6, 3.9] {
+            let f = |k: f64| (k - m).abs();
+            let (k, at) = least_octave(f, 4);
+            assert!((k - m).abs() <= 1.0, "minimum {m}: octave {k}");
+            let (g, fg) = golden_section(f, (k - 1.0).max(0.0), k + 1.0, 4, (k, at));
+            assert!(fg <= at && (g - m).abs() <= 2.0 * 0.618_034f64.powi(4), "minimum {m}: {g}");
+        }
+        // Falling all the way: the last octave; rising from the start: 0.
+        assert_eq!(least_octave(|k| -k, 4), (4.0, -4.0));
+        assert_eq!(least_octave(|k| k, 4), (0.0, 0.0));
+    }
+
+    #[test]
+    fn scores_that_are_never_finite_keep_the_start() {
+        let (k, at) = least_octave(|_| f64::INFINITY, 4);
+        assert_eq!((k, at), (0.0, f64::INFINITY));
+        assert_eq!(golden_section(|_| f64::INFINITY, 0.0, 1.0, 4, (k, at)), (0.0, f64::INFINITY));
+    }
 }
