@@ -55,7 +55,7 @@ fn fitting_a_frame_does_not_allocate() {
     let mut state = FitState::default();
     let mut run = |out: &mut FocusResult, check: bool| {
         for light in &lights {
-            for method in [Method::Uniform, Method::Psm, Method::Lispsm, Method::Tsm] {
+            for method in [Method::Uniform, Method::Psm, Method::Lispsm, Method::Tsm, Method::Auto] {
                 for count in [1, 4] {
                     for (stable, depth_clamp) in [(false, false), (true, false), (false, true)] {
                         // Stable maps with the practical planes, the others with

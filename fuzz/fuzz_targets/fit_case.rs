@@ -20,7 +20,7 @@ use std::cell::RefCell;
 /// The settings a case is fitted with, chosen by the input's length and the
 /// line's place so that every method, split scheme and point mode is met.
 fn settings(k: usize) -> FocusSettings {
-    let method = [Method::Uniform, Method::Psm, Method::Lispsm, Method::Tsm][k % 4];
+    let method = [Method::Uniform, Method::Psm, Method::Lispsm, Method::Tsm, Method::Auto][k % 5];
     let count = [1, 3, 4][(k / 4) % 3];
     let scheme = [
         SplitScheme::Practical { lambda: 0.5 },
