@@ -813,4 +813,11 @@ mod tests {
         assert_eq!(j["configurations"][1]["ratio_to_uniform"]["p95"], Value::Null);
         assert_eq!(j["worst"][0], "b el 10 az 0");
     }
+
+    #[test]
+    fn the_predicted_maximum_is_the_largest_of_the_maps() {
+        assert_eq!(predicted_max(&json!([null, 0.5, 0.75, 0.25])), 0.75);
+        assert!(predicted_max(&json!([null, null])).is_nan() && predicted_max(&json!([])).is_nan());
+        assert!(predicted_max(&Value::Null).is_nan());
+    }
 }
