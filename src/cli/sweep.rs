@@ -473,7 +473,7 @@ fn num(x: f64) -> String {
 
 /// `sweep.csv`.
 pub fn csv(sweep: &Sweep) -> String {
-    let mut s = String::from("scene,method,elevation_deg,azimuth_deg,resolution,maps,aliasing_max,aliasing_p95,aliasing_mean,predicted_max,mismatch_rate,rate_off_edges,rate_adequate,adequate_pixels,utilisation_mean,utilisation_min,p95_ratio_to_uniform,max_ratio_to_uniform,notes\n");
+    let mut s = String::from("scene,method,elevation_deg,azimuth_deg,resolution,maps,aliasing_max,aliasing_p95,aliasing_mean,ratio_to_bound,angle_free_ratio,predicted_max,mismatch_rate,rate_off_edges,rate_adequate,adequate_pixels,utilisation_mean,utilisation_min,p95_ratio_to_uniform,max_ratio_to_uniform,notes\n");
     for r in &sweep.rows {
         let m = &r.mismatch;
         let fields = [
@@ -486,6 +486,8 @@ pub fn csv(sweep: &Sweep) -> String {
             num(r.aliasing.max),
             num(r.aliasing.p95),
             num(r.aliasing.mean),
+            num(r.aliasing.ratio),
+            num(r.aliasing.angle_free_ratio),
             num(r.predicted_max),
             num(m.rate),
             num(m.rate_off_edges),
@@ -523,7 +525,8 @@ pub fn summary(sweep: &Sweep, worst_rows: &[usize]) -> Value {
                 "method": r.method, "elevation_deg": jnum(r.elevation), "azimuth_deg": jnum(r.azimuth), "light": r.light,
                 "resolution": r.resolution, "maps": r.maps,
                 "aliasing": {"max": jnum(r.aliasing.max), "p95": jnum(r.aliasing.p95), "mean": jnum(r.aliasing.mean), "pixels": r.aliasing.pixels,
-                             "predicted_max": jnum(r.predicted_max)},
+                             "bound": jnum(r.aliasing.bound), "ratio_to_bound": jnum(r.aliasing.ratio),
+                             "angle_free_ratio": jnum(r.aliasing.angle_free_ratio), "predicted_max": jnum(r.predicted_max)},
                 "mismatch": {"rate": jnum(m.rate), "rate_off_edges": jnum(m.rate_off_edges), "rate_adequate": jnum(m.rate_adequate),
                              "pixels": m.pixels, "off_edge_pixels": m.off_edge_pixels, "adequate_pixels": m.adequate_pixels,
                              "false_shadow": m.false_shadow, "false_light": m.false_light},
