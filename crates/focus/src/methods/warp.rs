@@ -259,7 +259,7 @@ pub(super) fn swept_warp(
     if k == 0.0 && !(score(0.5) < at) {
         return None;
     }
-    let (k, at) = golden_section(score, (k - 1.0).max(0.0), k + 1.0, SWEEP_REFINE, (k, at));
+    let (k, at) = golden_section(score, (k - 1.0).max(0.0), (k + 1.0).min(SWEEP_OCTAVES as f64), SWEEP_REFINE, (k, at));
     if !at.is_finite() {
         return None;
     }
