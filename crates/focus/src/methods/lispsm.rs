@@ -19,7 +19,7 @@ pub(super) fn lispsm(sv: &SplitView, light: &Light, body: &Body, hold: &WarpHold
 
 /// LiSPSM with its warp strength swept instead of `n_opt`'s, for
 /// [`crate::Method::Auto`]: the map whose predicted maximum aliasing over
-/// `samples` is least (see [`swept_warp`]), with that maximum.
+/// `samples` is least (see [`swept_warp`]), with its prediction.
 pub(super) fn lispsm_swept(
     sv: &SplitView,
     light: &Light,
