@@ -35,7 +35,7 @@
 //! none has no sample.
 
 use crate::project::post_perspective;
-use crate::project::{image_area_scale, light_factor};
+use crate::project::{crop_estimate, image_area_scale, light_factor};
 use crate::receiver_rays::{clip_ray, first_box};
 use crate::split_view::SplitView;
 use glam::{DMat4, DVec3, DVec4};
@@ -170,6 +170,14 @@ impl Samples {
     /// Aliasing of `m` at sample `i` (as `e` above, up to the common factor).
     fn aliasing(&self, m: &DMat4, i: usize) -> f64 {
         (self.camera[i] / image_area_scale(m, self.pts[i], self.ray[i])).sqrt() * self.light[i]
+    }
+
+    /// [`Samples::predict`] for `m` cropped to the points `pts` by its
+    /// estimated crop (`project::crop_estimate`: the same texel sizes as the
+    /// certified crop to a few ulps), how candidate maps are judged before
+    /// the one kept is cropped; `None` where the estimate fails.
+    pub fn predict_estimated(&self, m: &DMat4, pts: &[DVec3]) -> Option<Predicted> {
+        crop_estimate(m, pts).and_then(|e| self.predict(&e))
     }
 
     /// The prediction for the clip matrix `m` of the light given to

@@ -7,7 +7,7 @@ use super::warp::WarpShare;
 use super::{light_point, orient, Fitted, SplitView};
 #[cfg(doc)]
 use crate::predict::Predicted;
-use crate::project::{central_projection, crop, crop_estimate, h, post_perspective, DepthKind};
+use crate::project::{central_projection, crop, h, post_perspective, DepthKind};
 use crate::settings::Method;
 use glam::{DMat4, DVec3};
 use shadowfocus_geom::{Body, Light, MAX_VERTICES};
@@ -73,7 +73,7 @@ pub(super) fn psm(sv: &SplitView, light: &Light, body: &Body, share: &mut Option
     for k in 0..PSM_STEPS {
         let s = shift + if k == 0 { 0.0 } else { spread * 4f64.powi(k - 2) };
         let Some(map) = psm_map(sv, light, body, s) else { continue };
-        let accepted = crop_estimate(&map.0, verts).and_then(|e| samples.predict(&e)).is_some_and(|p| p.no_worse_than(&target));
+        let accepted = samples.predict_estimated(&map.0, verts).is_some_and(|p| p.no_worse_than(&target));
         if let Some(out) = accepted.then(|| plain(map, s)).flatten() {
             return Some(Fitted { warp_limited: k > 0, ..out });
         }

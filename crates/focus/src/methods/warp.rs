@@ -6,7 +6,7 @@ use super::stable_warp::stable_warped;
 use super::uniform::uniform_from;
 use super::{image, light_point, light_space, rotate_image, Fitted, SplitView};
 use crate::predict::{Predicted, Samples};
-use crate::project::{apply_warp, crop, crop_estimate, h, Warp};
+use crate::project::{apply_warp, crop, h, Cropped, Warp};
 use crate::settings::MapOrientation;
 use crate::state::WarpHold;
 use glam::{DMat4, DVec2, DVec3, DVec4};
@@ -180,17 +180,15 @@ fn choose_warp(sv: &SplitView, light: &Light, body: &Body, share: &mut WarpShare
             // No sample to judge by (the split sees nothing of the body's
             // box): the warp as designed.
             None => true,
-            // NOTE: candidates are judged on their estimated crop (the same
-            // texel sizes to a few ulps); only the one kept is cropped.
-            Some(t) => crop_estimate(&warped, verts).and_then(|e| samples.predict(&e)).is_some_and(|p| p.no_worse_than(t)),
+            // NOTE: candidates are judged on their estimated crop; only the
+            // one kept is cropped.
+            Some(t) => samples.predict_estimated(&warped, verts).is_some_and(|p| p.no_worse_than(t)),
         };
         if !better {
             continue;
         }
-        // NOTE: a strong warp can make w all but vanish at a vertex next to
-        // the apex, below what f32 resolves; a warp may not cost the f32
-        // guarantee that the uniform map keeps, so a weaker one is tried.
-        if let Some(cropped) = crop(&warped, verts, s.f32_origin, s.clip).filter(|c| c.f32_exact || !reference.f32_exact) {
+        // A weaker warp is tried where this one would cost the f32 guarantee.
+        if let Some(cropped) = crop_keeping_f32(sv, &warped, verts, &reference) {
             let mut out = Fitted::plain(cropped, s.method);
             out.warp_near = 1.0 / epsilon;
             out.warp_limited = k > 0;
@@ -199,6 +197,16 @@ fn choose_warp(sv: &SplitView, light: &Light, body: &Body, share: &mut WarpShare
     }
     best.warp_limited = true;
     Some(best)
+}
+
+/// The warped map `m` cropped to `verts`, unless that costs the f32
+/// guarantee (`Cropped::f32_exact`) the uniform map `reference` keeps.
+///
+/// NOTE: a strong warp can make `w` all but vanish at a vertex next to the
+/// apex, below what f32 resolves; a warp may not cost the guarantee that
+/// the uniform map keeps.
+fn crop_keeping_f32(sv: &SplitView, m: &DMat4, verts: &[DVec3], reference: &Fitted) -> Option<Cropped> {
+    crop(m, verts, sv.settings.f32_origin, sv.settings.clip).filter(|c| c.f32_exact || !reference.f32_exact)
 }
 
 /// Octaves of ε above the method's own that [`swept_warp`] walks, and the
@@ -248,7 +256,7 @@ pub(super) fn swept_warp(
     // NOTE: a map that misses a sample (a NaN mean) scores infinity, so it
     // is never the least.
     let score = |k: f64| {
-        let p = crop_estimate(&apply_warp(&frame.m, &warp(k)), verts).and_then(|e| samples.predict(&e));
+        let p = samples.predict_estimated(&apply_warp(&frame.m, &warp(k)), verts);
         p.filter(|p| p.mean.is_finite()).map_or(f64::INFINITY, |p| p.max)
     };
     let (k, at) = least_octave(score, SWEEP_OCTAVES);
@@ -264,7 +272,7 @@ pub(super) fn swept_warp(
         return None;
     }
     let w = warp(k);
-    let cropped = crop(&apply_warp(&frame.m, &w), verts, s.f32_origin, s.clip).filter(|c| c.f32_exact || !reference.f32_exact)?;
+    let cropped = crop_keeping_f32(sv, &apply_warp(&frame.m, &w), verts, &reference)?;
     let predicted = samples.predict(&cropped.m)?;
     let mut out = Fitted::plain(cropped, s.method);
     out.warp_near = 1.0 / w.epsilon;
