@@ -67,7 +67,20 @@ fn fitting_a_frame_does_not_allocate() {
                         let receivers = if depth_clamp { receiver_boxes } else { ReceiverBoxes::NONE };
                         // A texel budget with them too (stable maps refuse one).
                         let texel_budget = depth_clamp.then_some(TexelBudget { texels: 4 * 1024 * 1024, sizes: MapSizes::Any });
-                        let s = FocusSettings { method, stable, depth_clamp, splits, receivers, texel_budget, ..Default::default() };
+                        // And a visible depth range a frame old, the outer
+                        // splits covering the whole view.
+                        let (visible_depth, visible_depth_coverage) = (depth_clamp.then_some([3.0, 60.0]), DepthHintCoverage::View);
+                        let s = FocusSettings {
+                            method,
+                            stable,
+                            depth_clamp,
+                            splits,
+                            receivers,
+                            texel_budget,
+                            visible_depth,
+                            visible_depth_coverage,
+                            ..Default::default()
+                        };
                         let a0 = allocations();
                         fit(&cam, light, &scene, &s, out).unwrap();
                         let a1 = allocations();

@@ -7,7 +7,7 @@
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
 use shadowfocus_fuzz::{magnitude, FrustumIn, LightIn, SceneIn};
-use shadowfocus_geom::{focus_body, Aabb, Body, Focuser, DVec3, Dimension, Frustum, Light, ROUNDING_ULPS};
+use shadowfocus_geom::{focus_body, Aabb, Body, DVec3, Dimension, Focuser, Frustum, Light, ROUNDING_ULPS};
 use std::cell::RefCell;
 
 #[derive(Arbitrary, Debug)]

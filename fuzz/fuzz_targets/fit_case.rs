@@ -10,8 +10,8 @@ use libfuzzer_sys::fuzz_target;
 use shadowfocus_cli::cli::case::parse_case;
 use shadowfocus_cli::cli::fit::{case_camera, fit_case, prepare_case, run};
 use shadowfocus_cli::focus::{
-    fit_prepared, FocusResult, FocusSettings, MapSizes, Method, PointMode, PreparedView, ReceiverBoxes, SplitScheme, SplitSettings,
-    TexelBudget,
+    fit_prepared, DepthHintCoverage, FocusResult, FocusSettings, MapSizes, Method, PointMode, PreparedView, ReceiverBoxes, SplitScheme,
+    SplitSettings, TexelBudget,
 };
 use shadowfocus_cli::geom::{Aabb, DVec3};
 use shadowfocus_fuzz::check_result_lines;
@@ -58,7 +58,14 @@ thread_local! {
 fn compare(k: usize, line: &str) {
     let Ok(case) = parse_case(line) else { return };
     let Ok(cam) = case_camera(&case) else { return };
-    let s = settings(k);
+    let mut s = settings(k);
+    // Now and then a visible depth range inside the case's own camera,
+    // covering that slab or the whole view.
+    if k % 11 < 2 {
+        let z = |t: f64| cam.near + (cam.far - cam.near) * t;
+        s.visible_depth = Some([z(0.2), z(0.7)]);
+        s.visible_depth_coverage = if k % 11 == 0 { DepthHintCoverage::Hint } else { DepthHintCoverage::View };
+    }
     STATE.with(|st| {
         let (a, b, view) = &mut *st.borrow_mut();
         let direct = fit_case(&case, &s, a);

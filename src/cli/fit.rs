@@ -4,8 +4,8 @@ use super::body::{case_median_ns, median, p99};
 use super::case::{case_lines, parse_case, Case};
 use serde_json::{json, Value};
 use shadowfocus_focus::{
-    camera_from_corners, fit, fit_frustum, fit_map, fit_prepared, ClipConvention, FocusResult, FocusSettings, Footprint, MapSizes, Method,
-    PreparedView, SplitScheme, SplitSettings, TexelBudget,
+    camera_from_corners, fit, fit_frustum, fit_map, fit_prepared, ClipConvention, DepthHintCoverage, FocusResult, FocusSettings, Footprint,
+    MapSizes, Method, PreparedView, SplitScheme, SplitSettings, TexelBudget,
 };
 use shadowfocus_geom::{Body, Camera, Focuser, Frustum};
 use std::hint::black_box;
@@ -54,6 +54,11 @@ pub struct FitOptions {
     /// (sample-distribution shadow maps; rendering commands only).
     #[arg(long)]
     pub sdsm: bool,
+    /// With --sdsm: what the splits cover, hint (only the visible depth range: exact for this
+    /// frame's own pre-pass) | view (the planes placed over the range, the outer splits reaching
+    /// near and far: no pixel without a map when the range is a frame old).
+    #[arg(long, default_value = "hint", value_parser = parse_coverage)]
+    pub sdsm_coverage: DepthHintCoverage,
     /// Pass the boxes of the scene's receivers (rendering commands only): the predicted aliasing
     /// that auto and optimal placement use takes its receivers on them, and --fit-receivers and
     /// --depth-clamp fit to their bounds.
@@ -84,6 +89,7 @@ impl Default for FitOptions {
             fit_receivers: false,
             receiver_margin: Footprint::DEFAULT_MARGIN_TEXELS,
             sdsm: false,
+            sdsm_coverage: DepthHintCoverage::Hint,
             receiver_boxes: false,
             budget: None,
             budget_sizes: MapSizes::Any,
@@ -109,6 +115,14 @@ pub fn parse_sizes(s: &str) -> Result<MapSizes, String> {
         "pow2" => Ok(MapSizes::PowerOfTwo),
         "any" => Ok(MapSizes::Any),
         _ => Err(format!("unknown map sizes {s:?}: expected pow2 or any")),
+    }
+}
+
+pub fn parse_coverage(s: &str) -> Result<DepthHintCoverage, String> {
+    match s {
+        "hint" => Ok(DepthHintCoverage::Hint),
+        "view" => Ok(DepthHintCoverage::View),
+        _ => Err(format!("unknown coverage {s:?}: expected hint or view")),
     }
 }
 
@@ -166,6 +180,7 @@ impl FitOptions {
             depth_clamp: self.depth_clamp,
             footprint: if self.fit_receivers { Footprint::Receivers { margin_texels: self.receiver_margin } } else { Footprint::Body },
             texel_budget: self.budget.map(|texels| TexelBudget { texels, sizes: self.budget_sizes }),
+            visible_depth_coverage: self.sdsm_coverage,
             ..FocusSettings::default()
         };
         s.validate().map_err(|e| e.to_string())?;

@@ -402,6 +402,14 @@ typedef struct SfSettings {
    */
   double visible_depth_max;
   /*
+   Nonzero: with a visible depth range, the first split still reaches
+   back to `near` and the last out to `far` (the planes placed over the
+   range), so that a receiver outside the range — one that came into
+   view after a range a frame old was measured — still has a map.
+   Default 0: only the range is covered.
+   */
+  int visible_depth_covers_view;
+  /*
    Boxes around the surfaces that receive shadows, when the engine
    knows them (a terrain's tiles, a level's floors): every shaded
    receiver must lie in one, casters need not. Maps fitted to their

@@ -5,9 +5,9 @@ use crate::error::Failure;
 use crate::types::*;
 use glam::DVec3;
 use shadowfocus_focus::{
-    ClipConvention, DepthRange, DepthTest, FitState, FocusSettings, Footprint, LightNear, LispsmSettings, MapOrientation, MapSizes, Method,
-    PointMode, PsmSettings, ReceiverBoxes, ShadowMap, SplitScheme, SplitSettings, TexelBudget, TsmSettings, UvOrigin, WarpDirection,
-    WarpHold,
+    ClipConvention, DepthHintCoverage, DepthRange, DepthTest, FitState, FocusSettings, Footprint, LightNear, LispsmSettings,
+    MapOrientation, MapSizes, Method, PointMode, PsmSettings, ReceiverBoxes, ShadowMap, SplitScheme, SplitSettings, TexelBudget,
+    TsmSettings, UvOrigin, WarpDirection, WarpHold,
 };
 use shadowfocus_geom::{Aabb, Camera, Frustum, Light};
 use std::ffi::c_int;
@@ -110,6 +110,7 @@ pub unsafe fn settings(s: &SfSettings) -> Result<FocusSettings, Failure> {
             Footprint::Body
         },
         visible_depth: (s.visible_depth_min != 0.0 || s.visible_depth_max != 0.0).then_some([s.visible_depth_min, s.visible_depth_max]),
+        visible_depth_coverage: if s.visible_depth_covers_view != 0 { DepthHintCoverage::View } else { DepthHintCoverage::Hint },
         receivers,
         texel_budget: match s.texel_budget {
             0 => None,
@@ -217,6 +218,7 @@ pub fn default_settings() -> SfSettings {
         },
         visible_depth_min: d.visible_depth.map_or(0.0, |r| r[0]),
         visible_depth_max: d.visible_depth.map_or(0.0, |r| r[1]),
+        visible_depth_covers_view: (d.visible_depth_coverage == DepthHintCoverage::View).into(),
         receivers: std::ptr::null(),
         receiver_count: 0,
         texel_budget: d.texel_budget.map_or(0, |b| b.texels),

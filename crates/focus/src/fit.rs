@@ -100,7 +100,7 @@ fn fit_held(view: &PreparedView, light: &Light, scene: &Aabb, out: &mut FocusRes
     });
     match &rays {
         Some(rays) if optimal => {
-            let mut planes = view.depths;
+            let mut planes = view.placement_start();
             placement::place(&mut planes, rays.nearest(), view.splits, |planes| {
                 out.clear();
                 fit_splits(out, view, planes, light, &scene)?;
@@ -121,7 +121,8 @@ fn fit_held(view: &PreparedView, light: &Light, scene: &Aabb, out: &mut FocusRes
 
 /// Every split's maps for the planes `depths`: the view's own frusta where
 /// the planes are the view's, frusta cut anew where they are not.
-fn fit_splits(out: &mut FocusResult, view: &PreparedView, depths: &Planes, light: &Light, scene: &Aabb) -> Result<(), FocusError> {
+fn fit_splits(out: &mut FocusResult, view: &PreparedView, placed: &Planes, light: &Light, scene: &Aabb) -> Result<(), FocusError> {
+    let depths = &view.covered(placed);
     out.set_splits(depths, view.splits, view.settings.clip);
     for i in 0..view.splits {
         let range = [depths[i], depths[i + 1]];

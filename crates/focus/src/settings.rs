@@ -287,6 +287,26 @@ impl Footprint {
     pub const RECEIVERS: Footprint = Footprint::Receivers { margin_texels: Footprint::DEFAULT_MARGIN_TEXELS };
 }
 
+/// What the splits cover when a visible depth range is given
+/// ([`FocusSettings::visible_depth`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum DepthHintCoverage {
+    /// The hinted slab only: every split lies in it. Right for a range
+    /// reduced from the frame's own depth pre-pass, which holds every
+    /// shaded receiver.
+    #[default]
+    Hint,
+    /// The whole view: the planes are placed over the hinted slab as with
+    /// `Hint`, then the first split reaches back to the camera's `near` and
+    /// the last out to its `far`. A receiver outside the hint — one that
+    /// came into view after the range was measured (a disocclusion, or an
+    /// object moving in, with a range a frame old) — still lies in a map, at
+    /// the outer split's resolution, instead of in none. With one split the
+    /// hint then changes nothing.
+    View,
+}
+
 /// Everything a fit needs besides camera, light and scene.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -352,12 +372,20 @@ pub struct FocusSettings {
     /// The view depths `[z_min, z_max]` of the samples the frame shades
     /// (read back from its depth pre-pass), when the engine knows them: the
     /// fit then covers only `[max(near, z_min), min(far, z_max)]`, its splits
-    /// placed over that slab \[SDSM10\]. Every shaded receiver must lie in it
-    /// (see [`crate::visible_depth_after_motion`] for a range one frame old).
+    /// placed over that slab \[SDSM10\]. Every shaded receiver must lie in it,
+    /// unless [`FocusSettings::visible_depth_coverage`] is
+    /// [`DepthHintCoverage::View`] (see
+    /// [`crate::visible_depth_after_motion`] for a range one frame old).
     /// Pair it with [`SplitScheme::Log`]: over a tight range the logarithmic
     /// splits are the ones that gain (the practical scheme's uniform part
     /// lengthens the first split as the near end moves out).
     pub visible_depth: Option<[f64; 2]>,
+    /// What the splits cover with a visible depth range: the hinted slab
+    /// (default) or the whole view, the planes still placed over the slab
+    /// ([`DepthHintCoverage`]). A range a frame old needs `View` for no
+    /// pixel to be left without a map.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub visible_depth_coverage: DepthHintCoverage,
     /// Boxes around the surfaces that receive shadows, when the engine
     /// knows them (a terrain's tiles, a level's floors): maps fitted to
     /// their receivers ([`Footprint::Receivers`], `depth_clamp`) fit to the
@@ -394,6 +422,7 @@ impl Default for FocusSettings {
             depth_clamp: false,
             footprint: Footprint::Body,
             visible_depth: None,
+            visible_depth_coverage: DepthHintCoverage::Hint,
             receivers: ReceiverBoxes::NONE,
             texel_budget: None,
         }

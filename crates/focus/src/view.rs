@@ -2,7 +2,7 @@
 //! and each split's validated frustum, prepared once per view.
 
 use crate::error::FocusError;
-use crate::settings::{FocusSettings, Method};
+use crate::settings::{DepthHintCoverage, FocusSettings, Method};
 use crate::splits::split_depths;
 use crate::MAX_SPLITS;
 use glam::DVec3;
@@ -23,7 +23,12 @@ pub struct PreparedView {
     /// The camera with the visible range the fit uses (see `PsmSettings`).
     pub(crate) camera: Camera,
     pub(crate) basis: CameraBasis,
+    /// The split planes as fitted: placed over the camera's (hinted) range,
+    /// the outer two moved to the whole view's ends with
+    /// [`DepthHintCoverage::View`].
     pub(crate) depths: [f64; MAX_SPLITS + 1],
+    /// The ends the planes are placed between: `camera`'s near and far.
+    placed: [f64; 2],
     pub(crate) splits: usize,
     /// `None` for a split that `delta_bias` left without depth.
     pub(crate) frusta: [Option<Frustum>; MAX_SPLITS],
@@ -51,6 +56,7 @@ impl PreparedView {
             camera: *camera,
             basis: placeholder,
             depths: [0.0; MAX_SPLITS + 1],
+            placed: [0.0; 2],
             splits: 0,
             frusta: [None; MAX_SPLITS],
             given: None,
@@ -100,10 +106,31 @@ impl PreparedView {
         self.settings = *settings;
         self.given = given.map(|view| (*view, *camera));
         self.splits = split_depths(self.camera.near, self.camera.far, &settings.splits, &mut self.depths);
+        self.placed = [self.camera.near, self.camera.far];
+        if settings.visible_depth.is_some() && settings.visible_depth_coverage == DepthHintCoverage::View {
+            let whole = visible_range(camera, &FocusSettings { visible_depth: None, ..*settings })?;
+            (self.depths[0], self.depths[self.splits]) = (whole.near, whole.far);
+        }
         for i in 0..self.splits {
             self.frusta[i] = self.split_frustum([self.depths[i], self.depths[i + 1]])?;
         }
         Ok(())
+    }
+
+    /// The planes the placement starts from and moves: the fitted ones with
+    /// the outer two at the camera's (hinted) near and far.
+    pub(crate) fn placement_start(&self) -> [f64; MAX_SPLITS + 1] {
+        let mut planes = self.depths;
+        (planes[0], planes[self.splits]) = (self.placed[0], self.placed[1]);
+        planes
+    }
+
+    /// Placed planes as fitted: the outer two moved to the view's fitted
+    /// ends (the identity without [`DepthHintCoverage::View`]).
+    pub(crate) fn covered(&self, planes: &[f64; MAX_SPLITS + 1]) -> [f64; MAX_SPLITS + 1] {
+        let mut fitted = *planes;
+        (fitted[0], fitted[self.splits]) = (self.depths[0], self.depths[self.splits]);
+        fitted
     }
 
     /// Split `i`'s frustum for the view-depth range `range`: the prepared

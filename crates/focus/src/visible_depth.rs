@@ -13,9 +13,13 @@
 //! - a range from an earlier frame holds the points seen then, once widened
 //!   by the camera's motion ([`visible_depth_after_motion`]); points that
 //!   become visible only in this frame (disocclusion, objects moving in)
-//!   can lie outside it, and an engine that takes the hint with a frame of
-//!   latency must give such pixels its fallback (an unfocused map, or
-//!   reading them as lit).
+//!   can lie outside it. With
+//!   [`crate::FocusSettings::visible_depth_coverage`] set to
+//!   [`crate::DepthHintCoverage::View`] the planes are still placed over the
+//!   range, but the first split reaches back to `near` and the last out to
+//!   `far`, so such a pixel has a map, at the outer split's resolution; an
+//!   engine that takes the hint with a frame of latency sets it (or gives
+//!   those pixels a fallback of its own).
 
 use shadowfocus_geom::Camera;
 

@@ -501,7 +501,7 @@ proptest! {
         let (a, b) = (a.min(b), a.max(b));
         let z = |t: f64| cam.near + (cam.far - cam.near) * t;
         prop_assume!(z(a) < z(b));
-        let hinted = FocusSettings { visible_depth: Some([z(a), z(b)]), ..s };
+        let hinted = FocusSettings { visible_depth: Some([z(a), z(b)]), visible_depth_coverage: DepthHintCoverage::Hint, ..s };
         let narrowed = Camera { near: z(a).max(cam.near), far: z(b).min(cam.far), ..cam };
         let (mut x, mut y) = (FocusResult::new(), FocusResult::new());
         let rx = fit(&cam, &light, &scene, &hinted, &mut x);
@@ -517,6 +517,38 @@ proptest! {
             prop_assert_eq!(p.fit.clip_from_world.to_cols_array().map(f64::to_bits), q.fit.clip_from_world.to_cols_array().map(f64::to_bits));
             prop_assert_eq!(p.body().vertices(), q.body().vertices());
         }
+    }
+
+    /// A visible depth range covering the whole view: the fit passes every
+    /// check of `conservative_and_covering` for the whole camera (its
+    /// outer splits reach `near` and `far`, and every visible point of each
+    /// split's body is in its map), its inner planes are the hint-only
+    /// fit's where the scheme places them from the range alone, and its
+    /// inner splits' maps are that fit's, bit for bit.
+    #[test]
+    fn visible_depth_covering_the_view_places_over_the_range((cam, scene, light) in frame_strategy(), s in settings_strategy(), a in 0.0..1.0f64, b in 0.0..1.0f64) {
+        let (a, b) = (a.min(b), a.max(b));
+        let z = |t: f64| cam.near + (cam.far - cam.near) * t;
+        prop_assume!(z(a) < z(b));
+        let range = Some([z(a), z(b)]);
+        let covering = FocusSettings { visible_depth: range, visible_depth_coverage: DepthHintCoverage::View, ..s };
+        let hinted = FocusSettings { visible_depth_coverage: DepthHintCoverage::Hint, ..covering };
+        let (mut x, mut y) = (FocusResult::new(), FocusResult::new());
+        fit(&cam, &light, &scene, &covering, &mut x).map_err(|e| TestCaseError::fail(format!("{e}")))?;
+        check_frame(&cam, &light, &scene, &covering, &x)?;
+        fit(&cam, &light, &scene, &hinted, &mut y).map_err(|e| TestCaseError::fail(format!("{e}")))?;
+        let (dx, dy, n) = (x.split_depths(), y.split_depths(), s.splits.count);
+        prop_assert_eq!((dx[0], dx[n]), (cam.near, cam.far));
+        // Optimal planes follow the outer splits' fits, and budgets their
+        // predictions: the rest place and size from the range alone.
+        if s.splits.scheme == SplitScheme::Optimal || s.texel_budget.is_some() {
+            return Ok(());
+        }
+        prop_assert_eq!(&dx[1..n], &dy[1..n]);
+        let inner = |r: &FocusResult| -> Vec<_> {
+            r.maps().iter().filter(|m| m.split > 0 && m.split + 1 < n).map(|m| (m.split, m.face, m.fit.clip_from_world.to_cols_array().map(f64::to_bits))).collect()
+        };
+        prop_assert_eq!(inner(&x), inner(&y));
     }
 
     /// Optimal placement keeps the outer planes and never predicts worse

@@ -3,8 +3,9 @@
 use super::common::*;
 use crate::*;
 use shadowfocus_focus::{
-    caster_planes, cull_casters, fit, fit_prepared_with_state, ClipConvention, CubeFace, DepthRange, DepthTest, FitState, FocusResult,
-    FocusSettings, Footprint, MapSizes, Method, PointMode, PreparedView, ReceiverBoxes, ShadowMap, SplitScheme, TexelBudget, UvOrigin,
+    caster_planes, cull_casters, fit, fit_prepared_with_state, ClipConvention, CubeFace, DepthHintCoverage, DepthRange, DepthTest,
+    FitState, FocusResult, FocusSettings, Footprint, MapSizes, Method, PointMode, PreparedView, ReceiverBoxes, ShadowMap, SplitScheme,
+    TexelBudget, UvOrigin,
 };
 use shadowfocus_geom::{Aabb, Body, Focuser, Frustum};
 use std::ffi::c_int;
@@ -170,6 +171,36 @@ fn receiver_boxes_give_the_maps_of_fit() {
             for (i, (c, r)) in maps.iter().zip(out.maps()).enumerate() {
                 assert_same(c, r, &format!("{n} boxes, frame {k}, map {i}"));
             }
+        }
+    }
+}
+
+/// A visible depth range through C, covering the hinted slab or the whole
+/// view: the maps of `fit` with the same range and coverage, bit for bit;
+/// covering the view, the outer splits reach the camera's near and far.
+#[test]
+fn a_visible_depth_range_gives_the_maps_of_fit() {
+    let ctx = Ctx::new();
+    let mut out = FocusResult::new();
+    let mut maps = vec![canary_map(); SF_MAX_MAPS as usize];
+    for covers in [0, 1] {
+        for k in [0, 120] {
+            let cam = camera(k);
+            let mut s = settings(SfMethod::SF_METHOD_LISPSM, 4);
+            (s.visible_depth_min, s.visible_depth_max, s.visible_depth_covers_view) = (4.0, 60.0, covers);
+            let mut rs = rust_settings(SfMethod::SF_METHOD_LISPSM, 4);
+            rs.visible_depth = Some([4.0, 60.0]);
+            rs.visible_depth_coverage = if covers != 0 { DepthHintCoverage::View } else { DepthHintCoverage::Hint };
+            let light = lights()[0];
+            fit(&rust_camera(&cam), &rust_light(&light), &rust_scene(), &rs, &mut out).unwrap();
+            let (rc, m) = ctx.fit(&cam, &light, &scene(), &s, &mut maps);
+            assert_eq!((rc, m), (0, out.maps().len()), "coverage {covers}, frame {k}: {}", ctx.error());
+            for (i, (c, r)) in maps.iter().zip(out.maps()).enumerate() {
+                assert_same(c, r, &format!("coverage {covers}, frame {k}, map {i}"));
+            }
+            let ends = [maps[0].split[0], maps[m - 1].split[1]];
+            let whole = [cam.near_dist, cam.far_dist];
+            assert_eq!(ends, if covers != 0 { whole } else { [4.0, 60.0] }, "coverage {covers}, frame {k}");
         }
     }
 }
