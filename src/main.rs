@@ -137,7 +137,9 @@ fn run(command: Command) -> Result<bool, String> {
         }
         Command::Fit { options, input, bench, phases } => {
             if options.sdsm {
-                return Err("--sdsm measures the visible depth range on a rendered frame: use it with render, demo or sweep".into());
+                return Err(
+                    "--sdsm measures the visible depth range on a rendered frame: use it with render, demo, sweep or animate".into()
+                );
             }
             let settings = options.settings()?;
             let input = open(&input).map_err(io_err)?;

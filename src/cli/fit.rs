@@ -161,6 +161,9 @@ impl FitOptions {
     }
 
     pub fn settings(&self) -> Result<FocusSettings, String> {
+        if self.sdsm_coverage != DepthHintCoverage::Hint && !self.sdsm {
+            return Err("--sdsm-coverage says what a visible depth hint covers: use it with --sdsm".into());
+        }
         let scheme = match self.scheme_name() {
             "uniform" => SplitScheme::Uniform,
             "log" => SplitScheme::Log,
@@ -399,6 +402,18 @@ mod tests {
         assert_eq!(FitOptions::default().settings().unwrap().clip, ClipConvention::WGPU);
         let err = parse_clip("directx9").unwrap_err();
         assert!(err.contains("wgpu, d3d, metal, vulkan or opengl"), "{err}");
+    }
+
+    /// `--sdsm-coverage` reaches the settings with `--sdsm` and is refused
+    /// without it; an unknown coverage is refused with the names it accepts.
+    #[test]
+    fn sdsm_coverage_needs_sdsm() {
+        let view = parse_coverage("view").unwrap();
+        let with = FitOptions { sdsm: true, sdsm_coverage: view, ..FitOptions::default() };
+        assert_eq!(with.settings().unwrap().visible_depth_coverage, DepthHintCoverage::View);
+        let err = FitOptions { sdsm_coverage: view, ..FitOptions::default() }.settings().unwrap_err();
+        assert!(err.contains("use it with --sdsm"), "{err}");
+        assert!(parse_coverage("all").unwrap_err().contains("hint or view"));
     }
 
     /// `--bench` times every readable case whole and, for each camera a view

@@ -102,7 +102,8 @@ pub fn animate(o: &AnimateOptions) -> Result<Value, String> {
     let mut state = FitState::default();
     let mut state_changes = 0usize;
     let mut p95s = Vec::new();
-    let mut rows = vec!["frame,aliasing_p95,aliasing_max,mismatch_adequate,probes_seen,maps_hold_h".to_string()];
+    let mut rows =
+        vec!["frame,aliasing_p95,aliasing_max,mismatch_adequate,probes_seen,maps_hold_h,hint_min,hint_max,uncovered".to_string()];
     let mut strip = Vec::new();
     let mut zoomed = Vec::with_capacity(o.frames);
     // --sdsm: the first frame from its own pre-pass, every later one from
@@ -139,7 +140,10 @@ pub fn animate(o: &AnimateOptions) -> Result<Value, String> {
         let m = &out.metrics;
         p95s.push(m.aliasing.p95);
         let adequate = m.mismatch.map_or(f64::NAN, |x| x.rate_adequate);
-        rows.push(format!("{k},{},{},{adequate},{seen},{holds}", m.aliasing.p95, m.aliasing.max));
+        // The hint this frame was fitted with (empty without --sdsm) and the
+        // pixels no map covered.
+        let [lo, hi] = sdsm.map_or([String::new(), String::new()], |r| r.map(|z| z.to_string()));
+        rows.push(format!("{k},{},{},{adequate},{seen},{holds},{lo},{hi},{}", m.aliasing.p95, m.aliasing.max, m.coverage.uncovered));
         let (w, h) = (out.color.width / ZOOM, out.color.height / ZOOM);
         zoomed.push(out.color.zoom(w, h, w, h, ZOOM));
         if k % (o.frames / STRIP_FRAMES).max(1) == 0 && strip.len() < STRIP_FRAMES {
