@@ -22,8 +22,7 @@ pub struct FitOptions {
     pub splits: usize,
     /// uniform | log | practical | geometric:FIRST (the first split ends at view depth FIRST, the
     /// rest geometric, as engines ship cascades) | optimal (per light, splits of even predicted
-    /// aliasing). Default optimal; practical with --stable, whose planes must hold still; log
-    /// with --sdsm, whose tight range the logarithmic splits fit [SDSM10]
+    /// aliasing). Default optimal; practical with --stable, whose planes must hold still
     #[arg(long)]
     pub scheme: Option<String>,
     /// Weight of the logarithmic scheme in the practical one.
@@ -149,12 +148,11 @@ pub fn parse_method(s: &str) -> Result<Method, String> {
 }
 
 impl FitOptions {
-    /// The split scheme's name: as given, else `log` with `--sdsm`,
-    /// `practical` with `--stable` and `optimal` otherwise.
+    /// The split scheme's name: as given, else `practical` with `--stable`
+    /// and `optimal` otherwise.
     pub fn scheme_name(&self) -> &str {
         match &self.scheme {
             Some(s) => s,
-            None if self.sdsm => "log",
             None if self.stable => "practical",
             None => "optimal",
         }

@@ -367,7 +367,7 @@ pub fn demo(dir: &Path, size: (u32, u32), resolution: u32, scenes: &[String], ov
     // clamp; the summary says why the column is missing where it cannot.
     let clamping = renderer.adapter().depth_clamp;
     // The four splits again, fitted to the visible depth range of a
-    // pre-pass with logarithmic splits over it [SDSM10].
+    // pre-pass, their planes placed over it [SDSM10].
     let pssm = configs.iter().find(|(l, _)| l == "pssm4-lispsm").map(|(_, o)| o.clone()).ok_or("no pssm4-lispsm column")?;
     configs.push(("pssm4-lispsm-sdsm".into(), FitOptions { sdsm: true, ..pssm }));
     if clamping {

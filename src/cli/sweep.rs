@@ -70,8 +70,7 @@ pub struct SweepOptions {
     /// How many of the worst configurations go on the contact sheet.
     #[arg(long, default_value_t = 8)]
     pub worst: usize,
-    /// Fit every method to the visible depth range of a pre-pass of each frame (splits
-    /// logarithmic over it).
+    /// Fit every method to the visible depth range of a pre-pass of each frame.
     #[arg(long)]
     pub sdsm: bool,
     /// Pass every fit the boxes of the scene's receivers (see `render --receiver-boxes`).

@@ -376,9 +376,10 @@ pub struct FocusSettings {
     /// unless [`FocusSettings::visible_depth_coverage`] is
     /// [`DepthHintCoverage::View`] (see
     /// [`crate::visible_depth_after_motion`] for a range one frame old).
-    /// Pair it with [`SplitScheme::Log`]: over a tight range the logarithmic
-    /// splits are the ones that gain (the practical scheme's uniform part
-    /// lengthens the first split as the near end moves out).
+    /// With [`SplitScheme::Optimal`] (the default) the first plane starts no
+    /// farther out than the logarithmic plane over the range; the practical
+    /// scheme's uniform part lengthens the first split as the near end
+    /// moves out.
     pub visible_depth: Option<[f64; 2]>,
     /// What the splits cover with a visible depth range: the hinted slab
     /// (default) or the whole view, the planes still placed over the slab

@@ -2,7 +2,7 @@
 //! and each split's validated frustum, prepared once per view.
 
 use crate::error::FocusError;
-use crate::settings::{DepthHintCoverage, FocusSettings, Method};
+use crate::settings::{DepthHintCoverage, FocusSettings, Method, SplitScheme};
 use crate::splits::split_depths;
 use crate::MAX_SPLITS;
 use glam::DVec3;
@@ -107,9 +107,14 @@ impl PreparedView {
         self.given = given.map(|view| (*view, *camera));
         self.splits = split_depths(self.camera.near, self.camera.far, &settings.splits, &mut self.depths);
         self.placed = [self.camera.near, self.camera.far];
-        if settings.visible_depth.is_some() && settings.visible_depth_coverage == DepthHintCoverage::View {
-            let whole = visible_range(camera, &FocusSettings { visible_depth: None, ..*settings })?;
-            (self.depths[0], self.depths[self.splits]) = (whole.near, whole.far);
+        if settings.visible_depth.is_some() {
+            if settings.splits.scheme == SplitScheme::Optimal && self.splits > 1 {
+                self.depths[1] = self.depths[1].min(log_first_plane(self.camera.near, self.camera.far, self.splits));
+            }
+            if settings.visible_depth_coverage == DepthHintCoverage::View {
+                let whole = visible_range(camera, &FocusSettings { visible_depth: None, ..*settings })?;
+                (self.depths[0], self.depths[self.splits]) = (whole.near, whole.far);
+            }
         }
         for i in 0..self.splits {
             self.frusta[i] = self.split_frustum([self.depths[i], self.depths[i + 1]])?;
@@ -198,6 +203,23 @@ impl PreparedView {
     pub(crate) fn forward(&self) -> DVec3 {
         self.basis.forward
     }
+}
+
+/// The first logarithmic plane of `m` splits over the visible depth range
+/// `[near, far]`: where optimal placement over that range starts its first
+/// plane at the latest.
+///
+/// The placement never moves the first plane beyond its start, because the
+/// prediction can miss the nearest receivers (a terrain above the scene
+/// box's floor, see `placement.rs`). Without a range the start is the
+/// practical plane. A range says that something is seen at its near end;
+/// the practical plane over it moves out with that end (the forest: 14.4 m
+/// for visible depths 4.3–68, against 9.0 m over the whole view), while the
+/// logarithmic plane, which spreads texels as the logarithmic bound asks
+/// from that end on, stays at 8.5 m.
+fn log_first_plane(near: f64, far: f64, m: usize) -> f64 {
+    // NOTE: as `split_depths` computes it, n·(f/n)^(1/m) as exp(ln(f/n)/m).
+    near * ((far / near).ln() / m as f64).exp()
 }
 
 /// Relative outward margin of a split cut from a given frustum (2⁻²⁰): far
