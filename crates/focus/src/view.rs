@@ -2,7 +2,7 @@
 //! and each split's validated frustum, prepared once per view.
 
 use crate::error::FocusError;
-use crate::settings::{DepthHintCoverage, FocusSettings, Method, SplitScheme};
+use crate::settings::{DepthHintCoverage, FocusSettings, Method, SplitScheme, SplitSettings};
 use crate::splits::split_depths;
 use crate::MAX_SPLITS;
 use glam::DVec3;
@@ -27,8 +27,6 @@ pub struct PreparedView {
     /// the outer two moved to the whole view's ends with
     /// [`DepthHintCoverage::View`].
     pub(crate) depths: [f64; MAX_SPLITS + 1],
-    /// The ends the planes are placed between: `camera`'s near and far.
-    placed: [f64; 2],
     pub(crate) splits: usize,
     /// `None` for a split that `delta_bias` left without depth.
     pub(crate) frusta: [Option<Frustum>; MAX_SPLITS],
@@ -56,7 +54,6 @@ impl PreparedView {
             camera: *camera,
             basis: placeholder,
             depths: [0.0; MAX_SPLITS + 1],
-            placed: [0.0; 2],
             splits: 0,
             frusta: [None; MAX_SPLITS],
             given: None,
@@ -106,10 +103,9 @@ impl PreparedView {
         self.settings = *settings;
         self.given = given.map(|view| (*view, *camera));
         self.splits = split_depths(self.camera.near, self.camera.far, &settings.splits, &mut self.depths);
-        self.placed = [self.camera.near, self.camera.far];
         if settings.visible_depth.is_some() {
             if settings.splits.scheme == SplitScheme::Optimal && self.splits > 1 {
-                self.depths[1] = self.depths[1].min(log_first_plane(self.camera.near, self.camera.far, self.splits));
+                self.depths[1] = self.depths[1].min(log_first_plane(&self.camera, settings));
             }
             if settings.visible_depth_coverage == DepthHintCoverage::View {
                 let whole = visible_range(camera, &FocusSettings { visible_depth: None, ..*settings })?;
@@ -126,7 +122,7 @@ impl PreparedView {
     /// the outer two at the camera's (hinted) near and far.
     pub(crate) fn placement_start(&self) -> [f64; MAX_SPLITS + 1] {
         let mut planes = self.depths;
-        (planes[0], planes[self.splits]) = (self.placed[0], self.placed[1]);
+        (planes[0], planes[self.splits]) = (self.camera.near, self.camera.far);
         planes
     }
 
@@ -205,8 +201,8 @@ impl PreparedView {
     }
 }
 
-/// The first logarithmic plane of `m` splits over the visible depth range
-/// `[near, far]`: where optimal placement over that range starts its first
+/// The first logarithmic plane of the splits over `camera`'s (visible)
+/// depth range: where optimal placement over that range starts its first
 /// plane at the latest.
 ///
 /// The placement never moves the first plane beyond its start, because the
@@ -217,9 +213,10 @@ impl PreparedView {
 /// for visible depths 4.3–68, against 9.0 m over the whole view), while the
 /// logarithmic plane, which spreads texels as the logarithmic bound asks
 /// from that end on, stays at 8.5 m.
-fn log_first_plane(near: f64, far: f64, m: usize) -> f64 {
-    // NOTE: as `split_depths` computes it, n·(f/n)^(1/m) as exp(ln(f/n)/m).
-    near * ((far / near).ln() / m as f64).exp()
+fn log_first_plane(camera: &Camera, settings: &FocusSettings) -> f64 {
+    let mut log = [0.0; MAX_SPLITS + 1];
+    split_depths(camera.near, camera.far, &SplitSettings { scheme: SplitScheme::Log, delta_bias: 0.0, ..settings.splits }, &mut log);
+    log[1]
 }
 
 /// Relative outward margin of a split cut from a given frustum (2⁻²⁰): far
