@@ -271,12 +271,11 @@ fn auto_renders_about_as_well_as_the_best_method() {
     // Auto never aliases more than the uniform map (the warp guard's bar,
     // 10 % measured), its shadows are right where the maps resolve them, and
     // it comes within 5 % of the best method's measured max and p95 in all
-    // but at most three configurations: robot-war's single map (the
+    // but at most two configurations: robot-war's single map (the
     // prediction samples nine receivers, the render every pixel: that is
-    // where they part), and four splits where a single method's own planes
-    // settle farther in the placement's four rounds than Auto's, whose
-    // per-split choice changes between rounds (chessboard p95 +5.6 %,
-    // robot war max +5.5 %).
+    // where they part), and the chessboard's four splits, where Auto's
+    // planes settle on a p95 5.6 % above PSM's (both placements even out
+    // the predicted maximum, not p95).
     let methods = [Method::Uniform, Method::Psm, Method::Lispsm, Method::Tsm];
     let (mut configs, mut misses) = (0, Vec::new());
     for name in shadowfocus_cli::render::BUILTIN_SCENES {
@@ -302,7 +301,7 @@ fn auto_renders_about_as_well_as_the_best_method() {
         }
     }
     eprintln!("auto more than 5 % above the best method in {} of {configs}: {misses:?}", misses.len());
-    assert!(misses.len() <= 3, "auto more than 5 % above the best method in {misses:?}");
+    assert!(misses.len() <= 2, "auto more than 5 % above the best method in {misses:?}");
 }
 
 #[test]
@@ -393,10 +392,11 @@ fn a_texel_budget_lowers_the_maximum_of_equal_maps() {
     // and with receiver boxes: four 512² maps against the same 4·512² texels
     // shared by predicted aliasing (any sizes, each at most 1024²). Shadows
     // stay right, every visible pixel is covered, the budget holds, the
-    // maximum is never higher and p95 never more than 3 % higher (the sides
-    // follow the maxima, not p95: where the planes already even out the
-    // maxima, the sides move by a few percent and p95 with them, the
-    // chessboard with boxes by +2.1 %). Where the equal maps' predicted
+    // maximum is never more than 1 % higher and p95 never more than 2 %
+    // (where the planes already even out the predicted maxima, the sides
+    // move by a few texels and the measured figures with them: robot war
+    // with boxes, maximum +0.5 %; the sides follow the maxima, not p95:
+    // chessboard with boxes, p95 +1.2 %). Where the equal maps' predicted
     // maxima differ by 10 % or more there is something to share, and the
     // measured maximum is lower by at least 2 %; where the planes have
     // evened the predictions out, there is little to share.
@@ -422,8 +422,8 @@ fn a_texel_budget_lowers_the_maximum_of_equal_maps() {
             assert!(b.coverage.complete, "{name}: a visible pixel outside every map: {:?}", b.coverage);
             let m = b.mismatch.unwrap();
             assert!(m.rate_adequate <= ADEQUATE_LIMIT, "{name}: {m:?}");
-            assert!(b.aliasing.max <= a.aliasing.max * 1.001, "{name} boxes {boxes}: {:?} → {:?}", a.aliasing, b.aliasing);
-            assert!(b.aliasing.p95 <= a.aliasing.p95 * 1.03, "{name} boxes {boxes}: {:?} → {:?}", a.aliasing, b.aliasing);
+            assert!(b.aliasing.max <= a.aliasing.max * 1.01, "{name} boxes {boxes}: {:?} → {:?}", a.aliasing, b.aliasing);
+            assert!(b.aliasing.p95 <= a.aliasing.p95 * 1.02, "{name} boxes {boxes}: {:?} → {:?}", a.aliasing, b.aliasing);
             if spread >= 1.1 {
                 uneven += 1;
                 assert!(
@@ -435,8 +435,9 @@ fn a_texel_budget_lowers_the_maximum_of_equal_maps() {
             }
         }
     }
-    // The scenes have something to share: the rule above is not vacuous.
-    assert!(uneven >= 4, "only {uneven} configurations with uneven predictions");
+    // The scenes have something to share (three of the fourteen): the rule
+    // above is not vacuous.
+    assert!(uneven >= 3, "only {uneven} configurations with uneven predictions");
 }
 
 #[test]

@@ -101,7 +101,11 @@ fn fit_held(view: &PreparedView, light: &Light, scene: &Aabb, out: &mut FocusRes
     match &rays {
         Some(rays) if optimal => {
             let mut planes = view.placement_start();
-            placement::place(&mut planes, rays.nearest(), view.splits, |planes| {
+            let rounds = match view.settings.method {
+                Method::Auto => placement::AUTO_PLACEMENT_ROUNDS,
+                _ => placement::PLACEMENT_ROUNDS,
+            };
+            placement::place(&mut planes, rays.nearest(), view.splits, rounds, |planes| {
                 out.clear();
                 fit_splits(out, view, planes, light, &scene)?;
                 Ok(receiver_aliasing(out.maps(), out.split_depths(), rays).map(|a| a.map(|a| a.max)))
