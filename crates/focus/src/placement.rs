@@ -191,17 +191,15 @@ fn speedup(last: &Step, now: &Step, m: usize) -> f64 {
     }
 }
 
-/// The new lengths `new` of the judged splits (`len > 0` with a positive
-/// prediction) limited to a factor `MAX_STEP` of `len` each and scaled
-/// back to sum to `share`.
-fn limit(new: &mut [f64; MAX_SPLITS], len: &[f64; MAX_SPLITS], a: &SplitAliasing, m: usize, share: f64) {
-    let judged = |i: usize| a[i].is_some_and(|x| x > 0.0) && len[i] > 0.0;
+/// The new lengths `new` of the `judged` splits limited to a factor
+/// `MAX_STEP` of `len` each and scaled back to sum to `share`.
+fn limit(new: &mut [f64; MAX_SPLITS], len: &[f64; MAX_SPLITS], judged: &[bool; MAX_SPLITS], m: usize, share: f64) {
     let mut sum = 0.0;
-    for i in (0..m).filter(|&i| judged(i)) {
+    for i in (0..m).filter(|&i| judged[i]) {
         new[i] = new[i].clamp(len[i] / MAX_STEP, len[i] * MAX_STEP);
         sum += new[i];
     }
-    for i in (0..m).filter(|&i| judged(i)) {
+    for i in (0..m).filter(|&i| judged[i]) {
         new[i] *= share / sum;
     }
 }
@@ -222,34 +220,34 @@ fn rebalance(planes: &mut Planes, m: usize, a: &SplitAliasing, first: f64, lo: O
     for i in 0..m {
         len[i] = (planes[i + 1] / if i == 0 { base } else { planes[i] }).ln();
     }
-    // Splits with a prediction share what the others leave.
-    let (mut share, mut weight, mut judged) = (total, 0.0, 0);
+    // Splits with a positive prediction (judged) share what the others
+    // leave; `x` is the prediction of a judged split.
+    let mut x = [0.0; MAX_SPLITS];
+    let mut judged = [false; MAX_SPLITS];
+    let (mut share, mut weight, mut count) = (total, 0.0, 0);
     for i in 0..m {
         match a[i] {
-            Some(x) if x > 0.0 && len[i] > 0.0 => {
-                weight += len[i] / x.sqrt();
-                judged += 1;
+            Some(v) if v > 0.0 && len[i] > 0.0 => {
+                (x[i], judged[i]) = (v, true);
+                weight += len[i] / v.sqrt();
+                count += 1;
             }
             _ => share -= len[i],
         }
     }
-    if judged < 2 || !(weight > 0.0) || !(share > 0.0) {
+    if count < 2 || !(weight > 0.0) || !(share > 0.0) {
         return false;
     }
     let mut new = len;
-    for i in 0..m {
-        if let Some(x) = a[i].filter(|&x| x > 0.0 && len[i] > 0.0) {
-            new[i] = share * (len[i] / x.sqrt()) / weight;
-        }
+    for i in (0..m).filter(|&i| judged[i]) {
+        new[i] = share * (len[i] / x[i].sqrt()) / weight;
     }
-    limit(&mut new, &len, a, m, share);
+    limit(&mut new, &len, &judged, m, share);
     let mut now = Step { at: [f64::NAN; MAX_SPLITS], step: [f64::NAN; MAX_SPLITS] };
     let mut moved = 0.0f64;
-    for i in 0..m {
-        if a[i].is_some_and(|x| x > 0.0) && len[i] > 0.0 {
-            (now.at[i], now.step[i]) = (len[i].ln(), (new[i] / len[i]).ln());
-            moved = moved.max((new[i] - len[i]).abs());
-        }
+    for i in (0..m).filter(|&i| judged[i]) {
+        (now.at[i], now.step[i]) = (len[i].ln(), (new[i] / len[i]).ln());
+        moved = moved.max((new[i] - len[i]).abs());
     }
     if !(moved > SETTLED * total) {
         return false;
@@ -257,10 +255,10 @@ fn rebalance(planes: &mut Planes, m: usize, a: &SplitAliasing, first: f64, lo: O
     let k = last.as_ref().map_or(1.0, |l| speedup(l, &now, m));
     *last = Some(now);
     if k > 1.0 {
-        for i in (0..m).filter(|&i| !now.at[i].is_nan()) {
+        for i in (0..m).filter(|&i| judged[i]) {
             new[i] = len[i] * (k * now.step[i]).exp();
         }
-        limit(&mut new, &len, a, m, share);
+        limit(&mut new, &len, &judged, m, share);
     }
     planes[1] = (base * new[0].exp()).clamp(near, far).min(first);
     for i in 2..m {
