@@ -125,6 +125,9 @@ pub struct RenderOutput {
     /// (f32, from the main pass's f32 positions); `None` where the adapter has no compute
     /// shaders or no pixel sees geometry.
     pub visible_depth: Option<[f32; 2]>,
+    /// The scene's surface offset (`Scene::surface_offset`): the main pass looked each pixel's
+    /// point up lifted off its surface by this much.
+    pub surface_offset: f64,
     /// The camera and light the frame was rendered with.
     pub camera: CameraSpec,
     pub light: LightSpec,

@@ -33,8 +33,8 @@ impl Visibility {
 /// All scene triangles in a BVH, in f64.
 pub struct GroundTruth {
     mesh: TriMesh,
-    /// Largest absolute coordinate in the scene, for the ray-origin offset.
-    magnitude: f64,
+    /// [`Scene::surface_offset`]: how far off its surface a point is decided.
+    offset: f64,
     extent: f64,
 }
 
@@ -43,39 +43,34 @@ impl GroundTruth {
         let vertices: Vec<DVec3> = scene.vertices.iter().map(|v| glam::Vec3::from(v.position).as_dvec3()).collect();
         let indices: Vec<[u32; 3]> = scene.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
         let mesh = TriMesh::new(vertices, indices).map_err(|e| RenderError::GroundTruth(format!("{e:?}")))?;
-        let b = scene.bounds;
-        let magnitude = b.min.abs().max(b.max.abs()).max_element();
-        Ok(GroundTruth { mesh, magnitude, extent: b.diagonal() })
+        Ok(GroundTruth { mesh, offset: scene.surface_offset(), extent: scene.bounds.diagonal() })
     }
 
-    /// Offset of ray origins along the surface normal.
-    ///
-    /// NOTE: the world position read back from the GPU is an f32 interpolation of f32 vertices; its
-    /// error is a few ulps of the *vertex* coordinates (not of the point's own, which may be near
-    /// 0 on a large triangle), i.e. bounded by a few ulps of the scene's largest coordinate M. A
-    /// ray started exactly there may begin just below its own surface and hit it (false shadow),
-    /// or graze a coplanar neighbour. Moving the origin M·2⁻¹⁴ (≈ 100 f32 ulps of M) off the
-    /// surface, on the side the camera sees, clears that error by two orders of magnitude while
-    /// staying far below a shadow-map texel in every scene (2 cm on the 700 m board, whose texels
-    /// are ≈ 0.3–0.7 m at 1024²).
-    pub fn ray_offset(&self) -> f64 {
-        self.magnitude.max(1e-30) * (1.0 / 16384.0)
+    /// [`Scene::surface_offset`] of the scene this truth was built for.
+    pub fn surface_offset(&self) -> f64 {
+        self.offset
     }
 
-    /// Whether anything blocks the light from `p`, whose unit normal `n` faces the viewer.
+    /// Whether anything blocks the light from `p`, whose unit normal `n` faces the viewer: the
+    /// ray starts at `p` lifted off its surface by the surface offset, where the main pass looks
+    /// `p` up too.
     pub fn classify(&self, p: DVec3, n: DVec3, light: &LightSpec) -> Visibility {
-        if !light.in_spot(p) {
+        self.classify_lifted(p + n * self.offset, n, light)
+    }
+
+    /// As [`GroundTruth::classify`] for a point `origin` already lifted off its surface (unit
+    /// normal `n`): the ray starts at `origin` itself.
+    pub fn classify_lifted(&self, origin: DVec3, n: DVec3, light: &LightSpec) -> Visibility {
+        if !light.in_spot(origin) {
             return Visibility::OutsideSpot;
         }
-        let (l, dist) = light.toward_light(p);
+        let (l, dist) = light.toward_light(origin);
         if n.dot(l) <= 0.0 {
             return Visibility::BackFacing;
         }
-        let eps = self.ray_offset();
-        let origin = p + n * eps;
         let max_t = if dist.is_finite() {
             // Stop just short of a point light: nothing behind it can shadow.
-            (dist - eps).max(0.0)
+            (dist - self.offset).max(0.0)
         } else {
             // Far enough to leave the scene box from anywhere inside it.
             2.0 * self.extent + 2.0 * origin.abs().max_element() + 1.0

@@ -81,15 +81,18 @@ fn rounding_scale(m: &DMat4, p: DVec3, c: DVec4) -> f64 {
 impl RenderOutput {
     /// The shadow test of world point `p` (receiver normal `n`) in this frame's maps, choosing the
     /// map as the main pass does (the first whose split holds p's view depth and whose clip
-    /// volume holds p, among a point light's cube faces only the face of p's direction): `Some(true)` lit, `Some(false)` shadowed, `None` where no map covers p
-    /// or the maps were not read back (`save_shadow_maps`).
+    /// volume holds p, among a point light's cube faces only the face of p's direction) and
+    /// looking p up, as it does, lifted by the surface offset: `Some(true)` lit, `Some(false)`
+    /// shadowed, `None` where no map covers p or the maps were not read back
+    /// (`save_shadow_maps`).
     pub fn lit_at(&self, p: DVec3, n: DVec3) -> Option<bool> {
         let c = &self.camera;
         let (f, eye) = (c.forward.normalize(), c.eye);
         // NOTE: clamped as in the main pass, so that points at the frustum's ends find a map.
         let depth = (p - eye).dot(f).clamp(c.near, c.far);
         let answers = |m: &&DepthMap| depth >= m.split[0] as f64 && depth <= m.split[1] as f64 && m.face.is_none_or(|c| c.holds(p));
-        self.shadow_maps.iter().filter(answers).find_map(|m| m.lit(p, n))
+        let lifted = p + n * self.surface_offset;
+        self.shadow_maps.iter().filter(answers).find_map(|m| m.lit(lifted, n))
     }
 }
 

@@ -334,6 +334,7 @@ mod tests {
             truth: Some(truth.clone()),
             shadow_maps: Vec::new(),
             visible_depth: None,
+            surface_offset: 0.0,
             camera: cam,
             light: LightSpec::Directional { direction: DVec3::Z },
             metrics: RenderMetrics::default(),

@@ -5,7 +5,8 @@
 //! 2×2 around p with the sampler's bilinear PCF, (2r+2)² with a kernel). The texel at centre c
 //! holds the depth of the nearest surface on the map's ray through c, and the receiver-plane bias
 //! compares it with the receiver's own plane at that ray. So what the map says at c is what the
-//! ground truth says at q(c), the point where the ray through c meets p's tangent plane; the
+//! ground truth says at q(c), the point where the ray through c meets p's tangent plane lifted by
+//! the surface offset (where the main pass makes its lookup and the truth starts its rays); the
 //! filtered result is a weighted mean of those answers. Where some q(c) is lit and p is not (or
 //! the other way round), a shadow edge lies within the lookup's footprint, and the rendered
 //! value may differ from the point-sampled truth however fine the map: that is filtering, not
@@ -132,17 +133,21 @@ impl Lookup<'_> {
             return false;
         }
         let agrees = |q: DVec3| gt.classify(q, n, &out.light) == t;
+        // The main pass looks p up lifted off its surface by the surface offset (as the truth
+        // casts its ray): its taps compare against the plane through the lifted point.
+        let lifted = p + n * gt.surface_offset();
+        let tap_agrees = |q: DVec3| gt.classify_lifted(q, n, &out.light) == t;
         let map_agrees = |k: usize| {
             let (Some((m, inv)), Some(spec)) = (matrices.get(k), maps.get(k)) else {
                 return false;
             };
             let res = spec.resolution_or(settings.shadow_resolution) as f64;
-            let c = *m * p.extend(1.0);
+            let c = *m * lifted.extend(1.0);
             if !(c.w > 0.0) {
                 return false;
             }
             let st = [res * (0.5 + 0.5 * c.x / c.w), res * (0.5 - 0.5 * c.y / c.w)];
-            footprint(st, settings.pcf, |centre| plane_point(inv, res, centre, p, n).is_some_and(agrees))
+            footprint(st, settings.pcf, |centre| plane_point(inv, res, centre, lifted, n).is_some_and(tap_agrees))
         };
         let blended = blended_with(out, maps, matrices, settings, map, p);
         map_agrees(map) && blended.is_none_or(map_agrees) && blur_agrees(settings, p, n, agrees)

@@ -57,6 +57,27 @@ impl std::fmt::Debug for Scene {
 }
 
 impl Scene {
+    /// How far off its surface, along the normal on the side the camera sees, a visible point is
+    /// decided lit or shadowed: by the ground truth (its ray starts there) and by the main pass
+    /// (its shadow lookup is made there), so that both judge the same point.
+    ///
+    /// NOTE: the world position read back from the GPU is an f32 interpolation of f32 vertices; its
+    /// error is a few ulps of the *vertex* coordinates (not of the point's own, which may be near
+    /// 0 on a large triangle), i.e. bounded by a few ulps of the scene's largest coordinate M. A
+    /// ray started exactly there may begin just below its own surface and hit it (false shadow),
+    /// or graze a coplanar neighbour. Moving the point M·2⁻¹⁴ (≈ 100 f32 ulps of M) off the
+    /// surface clears that error by two orders of magnitude while staying far below a shadow-map
+    /// texel in every scene (2 cm on the 700 m board, whose texels are ≈ 0.3–0.7 m at 1024²).
+    /// The shadow lookup must use the same point: its receiver-plane reference extends the
+    /// receiver's plane to neighbouring texels, and on a curved receiver (the forest's terrain,
+    /// its facets 2 m wide) the next facet can rise above that plane by more than the lookup's
+    /// tolerance yet less than the offset, where a lookup at the unlifted point shadows a point
+    /// whose lifted ray is lit.
+    pub fn surface_offset(&self) -> f64 {
+        let b = self.bounds;
+        b.min.abs().max(b.max.abs()).max_element().max(1e-30) * (1.0 / 16384.0)
+    }
+
     /// Builds a scene, checking indices and object ranges and computing bounds and object boxes.
     /// `objects` give (first_index, index_count, receiver).
     pub fn new(

@@ -153,7 +153,7 @@ fn frame_uniform(req: &RenderRequest, depth: DepthLookup) -> Result<FrameUniform
     Ok(FrameUniform {
         view_proj: mat(view_proj),
         eye: [eye.x as f32, eye.y as f32, eye.z as f32, 1.0],
-        forward: [fwd.x as f32, fwd.y as f32, fwd.z as f32, 0.0],
+        forward: [fwd.x as f32, fwd.y as f32, fwd.z as f32, req.scene.surface_offset() as f32],
         cam: [req.camera.near as f32, req.camera.far as f32, s.width as f32, s.height as f32],
         lin_a: depth.lin_a,
         lin_b: depth.lin_b,

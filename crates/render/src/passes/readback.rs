@@ -63,6 +63,7 @@ pub(crate) fn read_frame(
         truth: None,
         shadow_maps: Vec::new(),
         visible_depth: i_range.and_then(|i| decode(&data[i])),
+        surface_offset: req.scene.surface_offset(),
         camera: req.camera,
         light: req.light,
         metrics: RenderMetrics::default(),

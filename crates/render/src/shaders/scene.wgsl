@@ -19,6 +19,7 @@ struct MapInfo {
 struct Frame {
     view_proj: mat4x4<f32>,
     eye: vec4<f32>,
+    // xyz = view direction, w = the scene's surface offset (`Scene::surface_offset`)
     forward: vec4<f32>,
     // near, far, width, height
     cam: vec4<f32>,
@@ -157,8 +158,10 @@ fn depth_rounding(m: mat4x4<f32>, p: vec3<f32>, z: f32, w: f32) -> f32 {
 // nearest surface there. Each tap is therefore compared against its own reference r + g·δ
 // (`plane_taps`), less a bias of 1/16 texel of slope, (|g_u| + |g_v|)/16, for the sub-texel
 // precision of rasterisation (vertices snap to at least 1/16 texel), and a constant term for the
-// depth format (params2.z). No larger bias is needed, so light leaks at contacts stay within that
-// sixteenth of a texel. The tilt is capped at tan θ = params2.w.
+// depth format (params2.z). No larger bias is needed on a planar receiver, so light leaks at
+// contacts stay within that sixteenth of a texel and the surface offset that `fs` lifts the
+// lookup point by (which also absorbs a curved receiver's rise above its plane, up to that
+// offset). The tilt is capped at tan θ = params2.w.
 fn plane_slope(m: mat4x4<f32>, c: vec4<f32>, n: vec3<f32>, flipped: bool, res: f32) -> vec2<f32> {
     let k = 1.0 / (c.w * c.w);
     let hr = 0.5 * res;
@@ -316,9 +319,12 @@ fn fs(in: VsOut) -> GOut {
     }
     var vis = 1.0;
     var e = -1.0;
+    // NOTE: the lookup is made at p lifted off its surface by the scene's surface offset, the
+    // point the ground truth casts its ray from; the map and split are chosen at p itself.
+    let lifted = p + n * f.forward.w;
     if (chosen >= 0) {
         let i = u32(chosen);
-        vis = shadow_lookup(i, p, n);
+        vis = shadow_lookup(i, lifted, n);
         e = aliasing(i, p, dx, dy);
         // Blend band: over the last fraction of this split, fade into the next map that covers p.
         let band = f.params2.x;
@@ -328,7 +334,7 @@ fn fs(in: VsOut) -> GOut {
             for (var j = i + 1u; j < count; j = j + 1u) {
                 if (map_answers(j, p)) {
                     let t = clamp((depth - (s.y - len)) / len, 0.0, 1.0);
-                    vis = mix(vis, shadow_lookup(j, p, n), t);
+                    vis = mix(vis, shadow_lookup(j, lifted, n), t);
                     break;
                 }
             }
