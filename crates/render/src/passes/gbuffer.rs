@@ -20,7 +20,13 @@ const RECEIVER_PLANE_CONSTANT: f32 = 4.0 / 16_777_216.0;
 /// The slope term is capped at this tan θ (θ = 87°, the receiver's tilt to the light ray):
 /// a plane nearly containing the light ray has an unbounded depth slope per texel, and an
 /// unbounded bias would let it receive no shadow at all. Such surfaces get almost no light
-/// (cos θ < 0.05) and are sampled by the map along a line, never adequately.
+/// (cos θ < 0.05) and are sampled by the map along a line. Beyond the cap they shadow
+/// themselves in part, which the mismatch counts where the screen samples them coarsely
+/// enough to pass as adequately sampled (a far wall under a high sun: the robot war's
+/// 0.3 % at 480×270, sun 65°, azimuth 270°). Without the cap the leaks cost more: the mean
+/// mismatch over the light sweep (`shadowfocus sweep --methods uniform,auto4,lispsm4 --size
+/// 320x180`) falls in the robot war (0.48 → 0.18 %) and rises in five other scenes (the
+/// forest 0.47 → 0.55 %).
 const RECEIVER_PLANE_MAX_TAN: f32 = 19.08;
 
 /// The frame's screen targets.
