@@ -23,7 +23,7 @@ const RECEIVER_PLANE_CONSTANT: f32 = 4.0 / 16_777_216.0;
 /// (cos θ < 0.05) and are sampled by the map along a line. Beyond the cap they shadow
 /// themselves in part, which the mismatch counts where the screen samples them coarsely
 /// enough to pass as adequately sampled (a far wall under a high sun: the robot war's
-/// 0.3 % at 480×270, sun 65°, azimuth 270°). Without the cap the leaks cost more: the mean
+/// 0.2 % at 480×270, sun 65°, azimuth 270°). Without the cap the leaks cost more: the mean
 /// mismatch over the light sweep (`shadowfocus sweep --methods uniform,auto4,lispsm4 --size
 /// 320x180`) falls in the robot war (0.48 → 0.18 %) and rises in five other scenes (the
 /// forest 0.47 → 0.55 %).
