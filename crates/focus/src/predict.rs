@@ -27,7 +27,12 @@
 //! plane, where a camera inside the scene box sees nothing, let a warp
 //! through that is better only there and worse on every surface actually
 //! seen. A receiver nearer than a ray's far end favours the warp, so the
-//! choice errs toward the uniform map, never toward a worse warp.
+//! choice errs toward the uniform map, never toward a worse warp. Where the
+//! nine rays all miss the body's box in the split (a thin slice of a steep
+//! view, whose body lies between them), rays through the body's own part in
+//! the split take their place ([`Part`]), and a warp with no sample at all
+//! to judge it is not kept: unjudged, a split's TSM map aliased up to 80×
+//! the uniform map's (`tests/sweep.rs`, view slices).
 //!
 //! Where the engine passes receiver boxes ([`crate::FocusSettings::receivers`]),
 //! the samples are where the rays first meet one in the split instead (its
@@ -117,7 +122,6 @@ impl Samples {
             len: 0,
         };
         let (lo, hi) = bounds(body.vertices());
-        let receivers = sv.settings.receivers.as_slice();
         let cam = sv.camera;
         let b = &sv.basis;
         let ty = (0.5 * cam.fovy).tan();
@@ -125,24 +129,34 @@ impl Samples {
         for gy in [-1.0, 0.0, 1.0] {
             for gx in [-1.0, 0.0, 1.0] {
                 // The ray eye + z·d, z the view depth (d·forward = 1).
-                let d = b.forward + b.right * (gx * tx) + b.up * (gy * ty);
-                let (z, face) = if receivers.is_empty() {
-                    let Some(exit) = clip_ray(cam.eye, d, cam.near, cam.far, lo, hi) else { continue };
-                    (exit.depth, exit.axis)
-                } else {
-                    // The engine's receiver boxes: where the ray first meets
-                    // one in the split (the split's far end, of unknown
-                    // orientation, where it is inside one there), nothing
-                    // where it meets none.
-                    let Some((_, z, axis)) = first_box(receivers, cam.eye, d, cam.near, cam.far) else { continue };
-                    (z, axis)
-                };
-                s.pts[s.len] = cam.eye + d * z;
-                s.face[s.len] = face.map(|k| DVec3::AXES[k]);
-                s.len += 1;
+                s.add_ray(sv, b.forward + b.right * (gx * tx) + b.up * (gy * ty), lo, hi);
+            }
+        }
+        if s.len == 0 {
+            for d in Part::of(sv, body).rays(sv).iter().flatten() {
+                s.add_ray(sv, *d, lo, hi);
             }
         }
         s
+    }
+
+    /// The sample on the camera ray `eye + z·d` (`d·forward = 1`), if it
+    /// has one: where it leaves the split or the box `[lo, hi]` (the body's),
+    /// or where it first meets one of the engine's receiver boxes (the
+    /// split's far end, of unknown orientation, where it is inside one
+    /// there; nothing where it meets none).
+    fn add_ray(&mut self, sv: &SplitView, d: DVec3, lo: DVec3, hi: DVec3) {
+        let (cam, receivers) = (sv.camera, sv.settings.receivers.as_slice());
+        let sample = if receivers.is_empty() {
+            clip_ray(cam.eye, d, cam.near, cam.far, lo, hi).map(|exit| (exit.depth, exit.axis))
+        } else {
+            first_box(receivers, cam.eye, d, cam.near, cam.far).map(|(_, z, axis)| (z, axis))
+        };
+        if let Some((z, face)) = sample.filter(|_| self.len < MAX_SAMPLES) {
+            self.pts[self.len] = cam.eye + d * z;
+            self.face[self.len] = face.map(|k| DVec3::AXES[k]);
+            self.len += 1;
+        }
     }
 
     /// The prediction for `reference` (the map others are compared
@@ -197,6 +211,99 @@ impl Samples {
         // each) refuses the map too, and an underflow to 0 accepts only a
         // map whose typical ratio is far below 1 anyway.
         (self.len > 0).then(|| Predicted { max, mean: sum / self.len as f64, ratio_product: product, samples: self.len })
+    }
+}
+
+/// The body's part in a split's depth range, as the camera sees it: the
+/// centre of its points and the extreme one in each of eight image
+/// directions (image `x`, `y` and both diagonals, each way).
+///
+/// Its points are the body's vertices within the depth range and the
+/// points where the body's edges cross the near or the far plane: the
+/// part's vertices are among them, and the body being convex, each is a
+/// point of it.
+struct Part {
+    sum: DVec3,
+    count: usize,
+    /// Per direction: the greatest score and its point.
+    extreme: [(f64, DVec3); MAX_SAMPLES - 1],
+}
+
+impl Part {
+    fn of(sv: &SplitView, body: &Body) -> Part {
+        let mut part = Part { sum: DVec3::ZERO, count: 0, extreme: [(f64::NEG_INFINITY, DVec3::ZERO); MAX_SAMPLES - 1] };
+        let (cam, verts) = (sv.camera, body.vertices());
+        let depth = |p: DVec3| (p - cam.eye).dot(sv.basis.forward);
+        let mut cross = |a: DVec3, b: DVec3| {
+            let (da, db) = (depth(a), depth(b));
+            for plane in [cam.near, cam.far] {
+                if (da < plane) != (db < plane) {
+                    // NOTE: from the nearer end, so that the point lies on
+                    // the edge however the depths round.
+                    let (p, q, dp, dq) = if da < db { (a, b, da, db) } else { (b, a, db, da) };
+                    part.add(sv, p + (q - p) * ((plane - dp) / (dq - dp)).clamp(0.0, 1.0));
+                }
+            }
+        };
+        if body.face_count() > 0 {
+            for face in body.faces() {
+                for (k, &i) in face.iter().enumerate() {
+                    let j = face[(k + 1) % face.len()];
+                    cross(verts[i as usize], verts[j as usize]);
+                }
+            }
+        } else {
+            for (i, &a) in verts.iter().enumerate() {
+                for &b in &verts[i + 1..] {
+                    cross(a, b);
+                }
+            }
+        }
+        for &p in verts {
+            let d = depth(p);
+            if d >= cam.near && d <= cam.far {
+                part.add(sv, p);
+            }
+        }
+        part
+    }
+
+    fn add(&mut self, sv: &SplitView, p: DVec3) {
+        let b = &sv.basis;
+        let v = p - sv.camera.eye;
+        let z = v.dot(b.forward);
+        let (x, y) = (v.dot(b.right) / z, v.dot(b.up) / z);
+        if !(x.is_finite() && y.is_finite()) {
+            return;
+        }
+        self.sum += p;
+        self.count += 1;
+        let scores = [x, -x, y, -y, x + y, -x - y, x - y, y - x];
+        for (e, score) in self.extreme.iter_mut().zip(scores) {
+            if score > e.0 {
+                *e = (score, p);
+            }
+        }
+    }
+
+    /// Camera rays (`d·forward = 1`) through the part's centre and halfway
+    /// from it to each extreme point: every one meets the body's box within
+    /// the split (for the guard's samples where the rectangle's nine rays
+    /// miss it: a thin, tilted part between them). `None` for an empty part.
+    fn rays(&self, sv: &SplitView) -> Option<[DVec3; MAX_SAMPLES]> {
+        if self.count == 0 {
+            return None;
+        }
+        let centre = self.sum / self.count as f64;
+        let ray = |p: DVec3| {
+            let v = p - sv.camera.eye;
+            v / v.dot(sv.basis.forward)
+        };
+        let mut rays = [ray(centre); MAX_SAMPLES];
+        for (r, e) in rays[1..].iter_mut().zip(self.extreme) {
+            *r = ray(0.5 * (centre + e.1));
+        }
+        Some(rays)
     }
 }
 

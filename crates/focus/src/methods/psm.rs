@@ -68,7 +68,8 @@ pub(super) fn psm(sv: &SplitView, light: &Light, body: &Body, share: &mut Option
     let share = WarpShare::along(share, sv, light, body, sv.basis.forward)?;
     let reference = share.reference(sv, verts)?;
     let (samples, target) = share.guard(sv, light, body, &reference.m);
-    let Some(target) = *target else { return plain(psm_map(sv, light, body, shift)?, shift) };
+    // NOTE: with no sample to judge by, no PSM map is kept (see `choose_warp`).
+    let Some(target) = *target else { return Some(Fitted { psm_fell_back: true, ..reference }) };
     let spread = zmax - zmin;
     for k in 0..PSM_STEPS {
         let s = shift + if k == 0 { 0.0 } else { spread * 4f64.powi(k - 2) };

@@ -148,10 +148,10 @@ pub(super) fn stable_warped(
         // frame stays while it does not lose by more than GUARD_HOLD.
         let factor = if held.is_some_and(|h| h.extent == extent) { GUARD_HOLD } else { 1.0 };
         let mut samples = Samples::new(sv, body);
-        if let Some(target) = samples.judge(&reference.m, light_point(light)) {
-            if !samples.predict(&mm).is_some_and(|p| p.no_worse_than_by(&target, factor)) {
-                return given_up(true);
-            }
+        // NOTE: with no sample to judge by, the warp is given up (see `choose_warp`).
+        let target = samples.judge(&reference.m, light_point(light));
+        if !target.is_some_and(|t| samples.predict(&mm).is_some_and(|p| p.no_worse_than_by(&t, factor))) {
+            return given_up(true);
         }
     }
     let mut out = Fitted::plain(Cropped { m: mm, f32_exact }, s.method);

@@ -176,14 +176,11 @@ fn choose_warp(sv: &SplitView, light: &Light, body: &Body, share: &mut WarpShare
     for k in 0..WARP_STEPS {
         let epsilon = w.epsilon * 0.5f64.powi(k);
         let warped = apply_warp(m, &Warp { epsilon, ..w });
-        let better = match target {
-            // No sample to judge by (the split sees nothing of the body's
-            // box): the warp as designed.
-            None => true,
-            // NOTE: candidates are judged on their estimated crop; only the
-            // one kept is cropped.
-            Some(t) => samples.predict_estimated(&warped, verts).is_some_and(|p| p.no_worse_than(t)),
-        };
+        // NOTE: candidates are judged on their estimated crop; only the one
+        // kept is cropped. With no sample to judge by (no receiver box on
+        // the camera rays through the split's body) no warp is kept: an
+        // unjudged warp can alias several times more than the uniform map.
+        let better = target.is_some_and(|t| samples.predict_estimated(&warped, verts).is_some_and(|p| p.no_worse_than(&t)));
         if !better {
             continue;
         }
