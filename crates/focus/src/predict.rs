@@ -288,7 +288,7 @@ impl Part {
 
     /// Camera rays (`d·forward = 1`) through the part's centre and halfway
     /// from it to each extreme point: every one meets the body's box within
-    /// the split (for the guard's samples where the rectangle's nine rays
+    /// the split (for the guard's samples where the image's nine rays
     /// miss it: a thin, tilted part between them). `None` for an empty part.
     fn rays(&self, sv: &SplitView) -> Option<[DVec3; MAX_SAMPLES]> {
         if self.count == 0 {
