@@ -271,11 +271,11 @@ fn auto_renders_about_as_well_as_the_best_method() {
     // Auto never aliases more than the uniform map (the warp guard's bar,
     // 10 % measured), its shadows are right where the maps resolve them, and
     // it comes within 5 % of the best method's measured max and p95 in all
-    // but at most two configurations: robot-war's single map (the
+    // but at most one configuration: robot-war's single map (the
     // prediction samples nine receivers, the render every pixel: that is
-    // where they part), and the chessboard's four splits, where Auto's
-    // planes settle on a p95 5.6 % above PSM's (both placements even out
-    // the predicted maximum, not p95).
+    // where they part). The chessboard's four splits, 5.6 % above PSM's
+    // p95 while a split between the guard's rays kept its warp unjudged,
+    // are within 4 %.
     let methods = [Method::Uniform, Method::Psm, Method::Lispsm, Method::Tsm];
     let (mut configs, mut misses) = (0, Vec::new());
     for name in shadowfocus_cli::render::BUILTIN_SCENES {
@@ -301,7 +301,7 @@ fn auto_renders_about_as_well_as_the_best_method() {
         }
     }
     eprintln!("auto more than 5 % above the best method in {} of {configs}: {misses:?}", misses.len());
-    assert!(misses.len() <= 2, "auto more than 5 % above the best method in {misses:?}");
+    assert!(misses.len() <= 1, "auto more than 5 % above the best method in {misses:?}");
 }
 
 #[test]
@@ -315,7 +315,7 @@ fn sdsm_splits_alias_less_than_the_practical_scheme() {
     // scheme's everywhere. Against the default planes without the range,
     // p95 is lower in most scenes and nowhere more than 5 % higher: the
     // placement's rounds settle on slightly different planes over a
-    // different range (measured: at most 1.3 % higher, in two scenes).
+    // different range (measured: 2.8 % higher in one scene, inverted).
     let mut guard = RENDERER.lock().unwrap_or_else(|e| e.into_inner());
     let renderer = guard.get_or_insert_with(|| Renderer::from_env().expect("a wgpu adapter (llvmpipe on a fresh machine)"));
     let mut lower = 0;
