@@ -247,8 +247,7 @@ impl Part {
         };
         if body.face_count() > 0 {
             for face in body.faces() {
-                for (k, &i) in face.iter().enumerate() {
-                    let j = face[(k + 1) % face.len()];
+                for (&i, &j) in face.iter().zip(face.iter().cycle().skip(1)) {
                     cross(verts[i as usize], verts[j as usize]);
                 }
             }
