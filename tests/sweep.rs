@@ -19,7 +19,7 @@
 //! Cargo's temporary folder for integration tests (the failure message
 //! names it).
 
-use shadowfocus_cli::cli::sweep::{self, parse_sweep_method, Sweep, SweepLight, SweepPlan, ADEQUATE_LIMIT, MIN_ADEQUATE_PIXELS};
+use shadowfocus_cli::cli::sweep::{self, parse_sweep_method, Sweep, SweepLight, SweepPlan, SweepRow, ADEQUATE_LIMIT, MIN_ADEQUATE_PIXELS};
 use shadowfocus_cli::render::{builtin_scene, CameraSpec, LightSpec, Renderer};
 use std::path::PathBuf;
 use std::sync::Mutex;
@@ -70,36 +70,45 @@ fn run(name: &str, folder: &str, elevations: &[f64], azimuths: &[f64], methods: 
 fn violations(s: &Sweep) -> Vec<String> {
     let mut v = Vec::new();
     for r in &s.rows {
-        let m = &r.mismatch;
-        if m.adequate_pixels >= MIN_ADEQUATE_PIXELS && !(m.rate_adequate <= ADEQUATE_LIMIT) {
-            v.push(format!(
-                "{}: {:.2} % of {} adequately sampled pixels wrong (limit {:.1} %; off edges {:.2} %)",
-                r.label(),
-                100.0 * m.rate_adequate,
-                m.adequate_pixels,
-                100.0 * ADEQUATE_LIMIT,
-                100.0 * m.rate_off_edges
-            ));
-        }
-        let judged = match r.method.as_str() {
-            "lispsm" | "tsm" | "auto" | "lispsm-stable" | "tsm-stable" => true,
-            "psm" => !r.has_note("psm_fell_back_to_uniform"),
-            _ => false,
-        };
-        if judged {
-            for (what, ratio) in [("p95", r.p95_ratio), ("max", r.max_ratio)] {
-                if !(ratio <= WARP_LIMIT) {
-                    v.push(format!(
-                        "{}: {what} aliasing {ratio:.3}× uniform's (limit {WARP_LIMIT}; p95 {:.2}, max {:.2})",
-                        r.label(),
-                        r.aliasing.p95,
-                        r.aliasing.max
-                    ));
-                }
+        row_violations(&r.label(), r, WARP_LIMIT, &mut v);
+    }
+    v
+}
+
+/// Where configuration `r` (described as `what`) breaks (a), or (b) with
+/// `limit` for the largest p95 and maximum over the uniform map's: each
+/// failure, described, into `v`.
+fn row_violations(what: &str, r: &SweepRow, limit: f64, v: &mut Vec<String>) {
+    let m = &r.mismatch;
+    if m.adequate_pixels >= MIN_ADEQUATE_PIXELS && !(m.rate_adequate <= ADEQUATE_LIMIT) {
+        v.push(format!(
+            "{what}: {:.2} % of {} adequately sampled pixels wrong (limit {:.1} %; off edges {:.2} %)",
+            100.0 * m.rate_adequate,
+            m.adequate_pixels,
+            100.0 * ADEQUATE_LIMIT,
+            100.0 * m.rate_off_edges
+        ));
+    }
+    if judged(r) {
+        for (k, ratio) in [("p95", r.p95_ratio), ("max", r.max_ratio)] {
+            if !(ratio <= limit) {
+                v.push(format!(
+                    "{what}: {k} aliasing {ratio:.3}× uniform's (limit {limit}; p95 {:.2}, max {:.2})",
+                    r.aliasing.p95, r.aliasing.max
+                ));
             }
         }
     }
-    v
+}
+
+/// Whether (b) judges `r`: the warps, and PSM unless it fell back to the
+/// uniform map.
+fn judged(r: &SweepRow) -> bool {
+    match r.method.as_str() {
+        "lispsm" | "tsm" | "auto" | "lispsm-stable" | "tsm-stable" => true,
+        "psm" => !r.has_note("psm_fell_back_to_uniform"),
+        _ => false,
+    }
 }
 
 fn check(name: &str) {
@@ -232,29 +241,11 @@ fn thin_view_slices_warp_no_worse_than_uniform() {
                         continue;
                     }
                     judged += 1;
-                    let what = format!("{name} depths {near:.2}–{far:.2} boxes {boxes} {}", r.label());
-                    let m = &r.mismatch;
-                    if m.adequate_pixels >= MIN_ADEQUATE_PIXELS && !(m.rate_adequate <= ADEQUATE_LIMIT) {
-                        v.push(format!(
-                            "{what}: {:.2} % of {} adequately sampled pixels wrong",
-                            100.0 * m.rate_adequate,
-                            m.adequate_pixels
-                        ));
-                    }
-                    if r.method == "uniform" || r.has_note("psm_fell_back_to_uniform") {
-                        continue;
-                    }
-                    let limit = if r.method == "tsm" || r.method == "auto" { TSM_SLICE_LIMIT } else { WARP_LIMIT };
-                    for (k, ratio) in [("p95", r.aliasing.p95 / u.aliasing.p95), ("max", r.aliasing.max / u.aliasing.max)] {
-                        if limit == TSM_SLICE_LIMIT {
-                            tsm_worst = tsm_worst.max(ratio);
-                        }
-                        if !(ratio <= limit) {
-                            v.push(format!(
-                                "{what}: {k} aliasing {ratio:.3}× uniform's (limit {limit}; p95 {:.3}, max {:.3})",
-                                r.aliasing.p95, r.aliasing.max
-                            ));
-                        }
+                    let tsm = r.method == "tsm" || r.method == "auto";
+                    let limit = if tsm { TSM_SLICE_LIMIT } else { WARP_LIMIT };
+                    row_violations(&format!("{name} depths {near:.2}–{far:.2} boxes {boxes} {}", r.label()), r, limit, &mut v);
+                    if tsm {
+                        tsm_worst = tsm_worst.max(r.p95_ratio).max(r.max_ratio);
                     }
                 }
             }
