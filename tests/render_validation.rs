@@ -306,42 +306,46 @@ fn auto_renders_about_as_well_as_the_best_method() {
 
 #[test]
 fn sdsm_splits_alias_less_than_the_practical_scheme() {
-    // Every built-in scene, four LiSPSM splits: fitted to the visible depth
-    // range of a pre-pass of the same frame (the default optimal planes
-    // placed over it, [SDSM10]) against the practical splits over [near,
-    // far] and against the default planes without the range. The shadows
-    // stay right and every visible pixel is covered (the range holds every
-    // shaded sample); p95 and max aliasing are lower than the practical
-    // scheme's everywhere. Against the default planes without the range,
-    // p95 is lower in most scenes and nowhere more than 5 % higher: the
-    // placement's rounds settle on slightly different planes over a
-    // different range (measured: 2.8 % higher in one scene, inverted).
+    // Every built-in scene, four LiSPSM splits and four auto splits: fitted
+    // to the visible depth range of a pre-pass of the same frame (the
+    // default optimal planes placed over it, [SDSM10]) against the practical
+    // splits over [near, far] and against the default planes without the
+    // range. The shadows stay right and every visible pixel is covered (the
+    // range holds every shaded sample); p95 and max aliasing are lower than
+    // the practical scheme's everywhere. Against the default planes without
+    // the range, p95 is lower in most scenes and nowhere more than 1.5 %
+    // higher: the placement's rounds stop at slightly different planes over
+    // a different range (measured: LiSPSM 0.9 % higher in one scene,
+    // inverted; 2.8 % while the placement's prediction missed the receivers
+    // at the range's near end).
     let mut guard = RENDERER.lock().unwrap_or_else(|e| e.into_inner());
     let renderer = guard.get_or_insert_with(|| Renderer::from_env().expect("a wgpu adapter (llvmpipe on a fresh machine)"));
-    let mut lower = 0;
-    for name in shadowfocus_cli::render::BUILTIN_SCENES {
-        let s = scene(name);
-        let frame = shadowfocus_cli::cli::overrides::Frame::of(&s);
-        let unhinted = FitOptions { splits: 4, resolution: RES / 2, ..FitOptions::default() };
-        let practical = FitOptions { scheme: Some("practical".into()), ..unhinted.clone() };
-        let sdsm = FitOptions { sdsm: true, ..unhinted.clone() };
-        let run =
-            |r: &mut Renderer, o: &FitOptions| shadowfocus_cli::cli::render::render_frame(r, &s, &frame, o, SIZE, false, None).unwrap();
-        let ((a, _), (u, _), (b, extra)) = (run(renderer, &practical), run(renderer, &unhinted), run(renderer, &sdsm));
-        let (a, u, b) = (&a.metrics, &u.metrics, &b.metrics);
-        eprintln!(
-            "{name}: visible depth {}, p95 {:.3} (practical), {:.3} (optimal) → {:.3}, max {:.3}, {:.3} → {:.3}",
-            extra["visible_depth"], a.aliasing.p95, u.aliasing.p95, b.aliasing.p95, a.aliasing.max, u.aliasing.max, b.aliasing.max
-        );
-        assert!(extra["visible_depth"].is_array() && extra["scheme"] == "optimal", "{name}: {extra}");
-        assert!(b.coverage.complete, "{name}: a visible pixel outside every map: {:?}", b.coverage);
-        let m = b.mismatch.unwrap();
-        assert!(m.rate_adequate <= ADEQUATE_LIMIT, "{name}: {m:?}");
-        assert!(b.aliasing.p95 < a.aliasing.p95 && b.aliasing.max < a.aliasing.max, "{name}: {:?} → {:?}", a.aliasing, b.aliasing);
-        assert!(b.aliasing.p95 <= 1.05 * u.aliasing.p95, "{name}: {:?} → {:?}", u.aliasing, b.aliasing);
-        lower += usize::from(b.aliasing.p95 < u.aliasing.p95);
+    for method in [Method::Lispsm, Method::Auto] {
+        let mut lower = 0;
+        for name in shadowfocus_cli::render::BUILTIN_SCENES {
+            let s = scene(name);
+            let frame = shadowfocus_cli::cli::overrides::Frame::of(&s);
+            let unhinted = FitOptions { method, splits: 4, resolution: RES / 2, ..FitOptions::default() };
+            let practical = FitOptions { scheme: Some("practical".into()), ..unhinted.clone() };
+            let sdsm = FitOptions { sdsm: true, ..unhinted.clone() };
+            let run =
+                |r: &mut Renderer, o: &FitOptions| shadowfocus_cli::cli::render::render_frame(r, &s, &frame, o, SIZE, false, None).unwrap();
+            let ((a, _), (u, _), (b, extra)) = (run(renderer, &practical), run(renderer, &unhinted), run(renderer, &sdsm));
+            let (a, u, b) = (&a.metrics, &u.metrics, &b.metrics);
+            eprintln!(
+                "{method:?} {name}: visible depth {}, p95 {:.3} (practical), {:.3} (optimal) → {:.3}, max {:.3}, {:.3} → {:.3}",
+                extra["visible_depth"], a.aliasing.p95, u.aliasing.p95, b.aliasing.p95, a.aliasing.max, u.aliasing.max, b.aliasing.max
+            );
+            assert!(extra["visible_depth"].is_array() && extra["scheme"] == "optimal", "{name}: {extra}");
+            assert!(b.coverage.complete, "{name}: a visible pixel outside every map: {:?}", b.coverage);
+            let m = b.mismatch.unwrap();
+            assert!(m.rate_adequate <= ADEQUATE_LIMIT, "{name}: {m:?}");
+            assert!(b.aliasing.p95 < a.aliasing.p95 && b.aliasing.max < a.aliasing.max, "{name}: {:?} → {:?}", a.aliasing, b.aliasing);
+            assert!(b.aliasing.p95 <= 1.015 * u.aliasing.p95, "{method:?} {name}: {:?} → {:?}", u.aliasing, b.aliasing);
+            lower += usize::from(b.aliasing.p95 < u.aliasing.p95);
+        }
+        assert!(lower >= 6, "{method:?}: the range lowers p95 against the default planes in {lower} of 7 scenes");
     }
-    assert!(lower >= 4, "the range lowers p95 against the default planes in {lower} of 7 scenes");
 }
 
 #[test]

@@ -96,7 +96,7 @@ fn fit_held(view: &PreparedView, light: &Light, scene: &Aabb, out: &mut FocusRes
     // The receivers the prediction samples, found once for every use below.
     let rays = (optimal || view.settings.texel_budget.is_some()).then(|| {
         let model = ReceiverModel::new(&scene, view.settings.receivers.as_slice());
-        ReceiverRays::new(&view.camera, &view.basis, light, model)
+        ReceiverRays::new(&view.whole, [view.camera.near, view.camera.far], &view.basis, light, model)
     });
     match &rays {
         Some(rays) if optimal => {

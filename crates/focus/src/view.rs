@@ -22,6 +22,8 @@ pub struct PreparedView {
     pub(crate) settings: FocusSettings,
     /// The camera with the visible range the fit uses (see `PsmSettings`).
     pub(crate) camera: Camera,
+    /// The camera as given, over its whole depth range.
+    pub(crate) whole: Camera,
     pub(crate) basis: CameraBasis,
     /// The split planes as fitted: placed over the camera's (hinted) range,
     /// the outer two moved to the whole view's ends with
@@ -52,6 +54,7 @@ impl PreparedView {
         PreparedView {
             settings: *settings,
             camera: *camera,
+            whole: *camera,
             basis: placeholder,
             depths: [0.0; MAX_SPLITS + 1],
             splits: 0,
@@ -100,6 +103,7 @@ impl PreparedView {
         settings.validate()?;
         self.basis = camera.basis()?;
         self.camera = visible_range(camera, settings)?;
+        self.whole = *camera;
         self.settings = *settings;
         self.given = given.map(|view| (*view, *camera));
         self.splits = split_depths(self.camera.near, self.camera.far, &settings.splits, &mut self.depths);

@@ -104,7 +104,7 @@ pub fn predict_aliasing(map: &ShadowMap, camera: &Camera, scene: &Aabb, receiver
     }
     let basis = camera.basis().ok()?;
     let mut out = None;
-    let rays = ReceiverRays::new(camera, &basis, &map.light, ReceiverModel::new(scene, receivers));
+    let rays = ReceiverRays::new(camera, [camera.near, camera.far], &basis, &map.light, ReceiverModel::new(scene, receivers));
     rays.each(&map.split_range, |_, s| {
         if let Some(e) = aliasing_in(map, s) {
             let z = s.z;
@@ -145,6 +145,9 @@ pub(crate) fn map_aliasing(maps: &[ShadowMap], depths: &[f64], rays: &ReceiverRa
 /// prediction of one fit.
 pub(crate) struct ReceiverRays<'a> {
     camera: &'a Camera,
+    /// The view depths receivers are seen at (the engine's visible depth
+    /// range, where it gives one): samples outside it are left out.
+    visible: [f64; 2],
     light: &'a Light,
     model: ReceiverModel<'a>,
     /// The view direction, and the image's half extents at depth 1.
@@ -172,11 +175,27 @@ pub(crate) struct Sample {
 
 impl<'a> ReceiverRays<'a> {
     /// Each ray's receiver, the ray clipped to the camera's whole range: a
-    /// ray whose receiver lies beyond the planes has none in them.
-    pub fn new(camera: &'a Camera, basis: &'a CameraBasis, light: &'a Light, model: ReceiverModel<'a>) -> ReceiverRays<'a> {
+    /// ray whose receiver lies beyond the planes has none in them. Samples
+    /// are taken in the `visible` depth range only.
+    ///
+    /// NOTE: the rays reach over the camera's whole range, not only the
+    /// visible one, so that a face that enters the visible range at its near
+    /// end has rays on it on both sides: its crossing with that end, the
+    /// nearest and worst receiver of the first split, follows from them.
+    /// Rays clipped at the visible near end miss it (a ray there loses its
+    /// receiver to the last bit of rounding), and the first split is
+    /// predicted too good.
+    pub fn new(
+        camera: &'a Camera,
+        visible: [f64; 2],
+        basis: &'a CameraBasis,
+        light: &'a Light,
+        model: ReceiverModel<'a>,
+    ) -> ReceiverRays<'a> {
         let ty = (0.5 * camera.fovy).tan();
         let mut rays = ReceiverRays {
             camera,
+            visible,
             light,
             model,
             forward: basis.forward,
@@ -204,10 +223,11 @@ impl<'a> ReceiverRays<'a> {
         self.model.hit(self.camera.eye, self.ray(i, gy), self.camera.near, self.camera.far)
     }
 
-    /// The view depth of the nearest ray's receiver that faces the light;
-    /// `None` without any.
+    /// The view depth of the nearest visible ray's receiver that faces the
+    /// light; `None` without any.
     pub fn nearest(&self) -> Option<f64> {
-        self.samples.iter().flatten().flatten().map(|s| s.z).reduce(f64::min)
+        let [lo, hi] = self.visible;
+        self.samples.iter().flatten().flatten().map(|s| s.z).filter(|&z| z >= lo && z <= hi).reduce(f64::min)
     }
 
     /// The receiver's sample (its face's normal toward the camera), where
@@ -227,19 +247,31 @@ impl<'a> ReceiverRays<'a> {
     }
 
     /// Calls `f(split, sample)` for each receiver sample that faces the
-    /// light in the depth range `depths[0]..=depths[m]`, `split` the index
-    /// of the range `[depths[i], depths[i + 1]]` holding its depth.
+    /// light in the depth range `depths[0]..=depths[m]` and in the visible
+    /// range, `split` the index of the range `[depths[i], depths[i + 1]]`
+    /// holding its depth.
     ///
     /// The samples are the receivers of `RECEIVER_RAYS²` rays spread evenly
     /// over the image, and, in each column of rays, the points where a face
     /// the rays meet crosses a plane of `depths` (reported for the splits on
-    /// both sides): a split's worst receiver on a face is mostly at one of its
-    /// ends, which evenly spread rays miss where a split holds few rows of the
-    /// image (far splits over a ground seen near the horizon).
+    /// both sides), the outer two planes moved into the visible range: a
+    /// split's worst receiver on a face is mostly at one of its ends, which
+    /// evenly spread rays miss where a split holds few rows of the image (far
+    /// splits over a ground seen near the horizon).
     pub fn each(&self, depths: &[f64], mut f: impl FnMut(usize, &Sample)) {
         let Some(m) = depths.len().checked_sub(1).filter(|&m| m > 0) else { return };
+        let (lo, hi) = (depths[0].max(self.visible[0]), depths[m].min(self.visible[1]));
+        let plane = |k: usize| {
+            if k == 0 {
+                lo
+            } else if k == m {
+                hi
+            } else {
+                depths[k]
+            }
+        };
         for (i, column) in self.hits.iter().enumerate() {
-            for s in self.samples[i].iter().flatten().filter(|s| s.z >= depths[0] && s.z <= depths[m]) {
+            for s in self.samples[i].iter().flatten().filter(|s| s.z >= lo && s.z <= hi) {
                 f(depths[1..m].partition_point(|&c| c < s.z), s);
             }
             // Along a column, `1/z` on a plane is affine in the image row:
@@ -250,7 +282,8 @@ impl<'a> ReceiverRays<'a> {
             for j in 0..RECEIVER_RAYS - 1 {
                 let Some((a, b)) = face_line(column, j) else { continue };
                 let (wa, wb) = (1.0 / a.1.z, 1.0 / b.1.z);
-                for (k, &zk) in depths.iter().enumerate() {
+                for k in 0..=m {
+                    let zk = plane(k);
                     let gy = ray_grid(a.0) + (ray_grid(b.0) - ray_grid(a.0)) * (1.0 / zk - wa) / (wb - wa);
                     if !(gy > ray_grid(j) && gy < ray_grid(j + 1)) {
                         continue;
@@ -320,4 +353,44 @@ fn split_map(maps: &[ShadowMap], split: usize, p: DVec3) -> Option<(usize, &Shad
             _ => true,
         }
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A fit given the visible depth range `[z0, far]` of a camera above a
+    /// floor: the floor's crossing with `z0` is the nearest receiver sample,
+    /// wherever `z0` falls. Rays clipped at `z0` itself lost that crossing
+    /// for some `z0` (the ray to it lands a rounding error short of the
+    /// range), and the first split was predicted too good.
+    #[test]
+    fn the_visible_near_end_is_sampled_where_a_face_crosses_it() {
+        let scene = Aabb::new(DVec3::new(-1e3, 0.0, -1e3), DVec3::new(1e3, 50.0, 1e3)).unwrap();
+        let camera = Camera {
+            eye: DVec3::new(0.3, 1.7, -2.0),
+            forward: DVec3::new(0.05, -0.3, 1.0),
+            up: DVec3::Y,
+            fovy: 1.0,
+            aspect: 16.0 / 9.0,
+            near: 0.1,
+            far: 400.0,
+        };
+        let basis = camera.basis().unwrap();
+        let light = Light::directional(DVec3::new(0.3, -1.0, 0.2)).unwrap();
+        let model = ReceiverModel::new(&scene, &[]);
+        let whole = ReceiverRays::new(&camera, [camera.near, camera.far], &basis, &light, model);
+        let floor = whole.nearest().unwrap();
+        let mut checked = 0;
+        for k in 1..200 {
+            let z0 = floor * (300.0 / floor).powf(k as f64 / 200.0);
+            let rays = ReceiverRays::new(&camera, [z0, camera.far], &basis, &light, model);
+            let mut nearest = f64::INFINITY;
+            rays.each(&[z0, camera.far], |_, s| nearest = nearest.min(s.z));
+            assert!((nearest / z0 - 1.0).abs() < 1e-9, "z0 {z0}: nearest sample {nearest}");
+            assert!(rays.nearest().is_none_or(|z| z >= z0));
+            checked += 1;
+        }
+        assert_eq!(checked, 199);
+    }
 }
