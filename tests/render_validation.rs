@@ -316,8 +316,7 @@ fn sdsm_splits_alias_less_than_the_practical_scheme() {
     // the range, p95 is lower in most scenes and nowhere more than 1.5 %
     // higher: the placement's rounds stop at slightly different planes over
     // a different range (measured: LiSPSM 0.9 % higher in one scene,
-    // inverted; 2.8 % while the placement's prediction missed the receivers
-    // at the range's near end).
+    // inverted).
     let mut guard = RENDERER.lock().unwrap_or_else(|e| e.into_inner());
     let renderer = guard.get_or_insert_with(|| Renderer::from_env().expect("a wgpu adapter (llvmpipe on a fresh machine)"));
     for method in [Method::Lispsm, Method::Auto] {

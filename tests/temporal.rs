@@ -89,11 +89,10 @@ fn stable_spot_maps_hold_still_where_plain_ones_flicker() {
     let (plain, stable) = (run_in("chessboard", spot(), false, "spot-plain"), run_in("chessboard", spot(), true, "spot-stable"));
     let f = |s: &serde_json::Value, k: &str| s[k].as_f64().unwrap_or_else(|| panic!("{k} missing in {s}"));
     assert!(f(&plain, "point_frames_near_edges") > 1000.0, "too few probes near edges: {plain}");
-    // NOTE: measured 0.0106 here (24 frames), the probes the light does not reach (back-facing,
-    // outside the pyramid) left out; with them 0.152, most of it at a wall in the light's own
-    // plane, where no shadow shows.
+    // NOTE: measured 0.0106 here (24 frames). Counted also at the probes the light does not
+    // reach (back-facing, outside the pyramid), where no shadow shows, it was 0.152: most of
+    // them on a wall in the light's own plane.
     assert!(f(&plain, "flicker_near_edges") > 0.005, "the plain spot map's edges should crawl on an orbit: {plain}");
-    // Flips where no shadow shows are not counted (with them: 0.152 here).
     assert!(f(&plain, "flicker_near_edges") < 0.05, "flips counted where the light does not reach? {plain}");
     assert!(f(&stable, "flicker_near_edges") * 10.0 <= f(&plain, "flicker_near_edges"), "plain {plain}\nstable {stable}");
     assert_eq!(stable["misses"], 0, "{stable}");
