@@ -22,7 +22,8 @@ pub struct PreparedView {
     pub(crate) settings: FocusSettings,
     /// The camera with the visible range the fit uses (see `PsmSettings`).
     pub(crate) camera: Camera,
-    /// The camera as given, over its whole depth range.
+    /// The camera as given, over its whole depth range (for a view given
+    /// as a frustum, the camera given with it).
     pub(crate) whole: Camera,
     pub(crate) basis: CameraBasis,
     /// The split planes as fitted: placed over the camera's (hinted) range,
@@ -32,9 +33,9 @@ pub struct PreparedView {
     pub(crate) splits: usize,
     /// `None` for a split that `delta_bias` left without depth.
     pub(crate) frusta: [Option<Frustum>; MAX_SPLITS],
-    /// The frustum given to [`PreparedView::prepare_frustum`] and the
-    /// camera given with it, for splits cut anew ([`PreparedView::split_frustum`]).
-    given: Option<(Frustum, Camera)>,
+    /// The frustum given to [`PreparedView::prepare_frustum`], for splits
+    /// cut anew ([`PreparedView::split_frustum`]).
+    given: Option<Frustum>,
     /// Why the last preparation failed: every fit from the view gives it.
     pub(crate) failed: Option<FocusError>,
 }
@@ -105,7 +106,7 @@ impl PreparedView {
         self.camera = visible_range(camera, settings)?;
         self.whole = *camera;
         self.settings = *settings;
-        self.given = given.map(|view| (*view, *camera));
+        self.given = given.copied();
         self.splits = split_depths(self.camera.near, self.camera.far, &settings.splits, &mut self.depths);
         if settings.visible_depth.is_some() {
             if settings.splits.scheme == SplitScheme::Optimal && self.splits > 1 {
@@ -162,7 +163,7 @@ impl PreparedView {
             return Ok(None);
         }
         Ok(Some(match &self.given {
-            Some((view, camera)) => slice(view, &self.camera, &self.basis, range, camera)?,
+            Some(view) => slice(view, &self.camera, &self.basis, range, &self.whole)?,
             None => Frustum::from_camera_in(&Camera { near: range[0], far: range[1], ..self.camera }, &self.basis)?,
         }))
     }
