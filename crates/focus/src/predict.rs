@@ -27,12 +27,19 @@
 //! plane, where a camera inside the scene box sees nothing, let a warp
 //! through that is better only there and worse on every surface actually
 //! seen. A receiver nearer than a ray's far end favours the warp, so the
-//! choice errs toward the uniform map, never toward a worse warp. Where the
-//! nine rays all miss the body's box in the split (a thin slice of a steep
-//! view, whose body lies between them), rays through the body's own part in
-//! the split take their place ([`Part`]), and a warp with no sample at all
-//! to judge it is not kept: unjudged, a split's TSM map aliased up to 80×
-//! the uniform map's (`tests/sweep.rs`, view slices).
+//! choice errs toward the uniform map, never toward a worse warp.
+//!
+//! A face turned away from the light gives no sample, as in the view's
+//! prediction (`view_aliasing`): it is in its own shadow, where no aliasing
+//! shows. Looking up over a city, six of the nine rays left the body's box
+//! through its top, seen from below; on that air the LiSPSM warp looked
+//! better, and on the strip of ground below it rendered 1.59× the uniform
+//! map's aliasing. Where fewer than `MIN_SAMPLES` remain (a thin slice of
+//! a steep view, whose body lies between the rays; a board seen from
+//! straight above), rays through the body's own part in the split add
+//! theirs ([`Part`]), and a warp with no sample at all to judge it is not
+//! kept: unjudged, a split's TSM map aliased up to 80× the uniform map's
+//! (`tests/sweep.rs`, view slices).
 //!
 //! Where the engine passes receiver boxes ([`crate::FocusSettings::receivers`]),
 //! the samples are where the rays first meet one in the split instead (its
@@ -40,26 +47,43 @@
 //! none has no sample.
 
 use crate::project::post_perspective;
-use crate::project::{crop_estimate, image_area_scale, light_factor};
+use crate::project::{crop_estimate, image_area_scale, light_factor, GRAZING_COS};
 use crate::receiver_rays::{clip_ray, first_box};
 use crate::split_view::SplitView;
 use glam::{DMat4, DVec3, DVec4};
 use shadowfocus_geom::{unit_direction, Body};
 
-/// Most samples: one point on each of nine rays.
-pub(crate) const MAX_SAMPLES: usize = 9;
+/// Camera rays of the samples: the image's corners, edge midpoints and
+/// centre, and as many through the body's part ([`Part`]).
+const RAYS: usize = 9;
+
+/// Fewest samples the light reaches at more than a graze that a warp is
+/// judged on before the rays through the body's part ([`Part`]) are added:
+/// on one or two receivers it is judged on where they happen to be. A
+/// camera looking straight down at a board sees it all at one depth; the
+/// image's rays found its centre and one edge, where PSM predicted less
+/// than the uniform map and rendered 1.7× more.
+const MIN_SAMPLES: usize = 3;
+
+/// Most samples: one point on each image ray, or fewer than `MIN_SAMPLES`
+/// of those and one on each ray through the body's part.
+pub(crate) const MAX_SAMPLES: usize = RAYS + MIN_SAMPLES - 1;
 
 /// Receiver samples of one split.
 pub(crate) struct Samples {
     pts: [DVec3; MAX_SAMPLES],
-    /// The scene box face the camera ray leaves through at each sample;
-    /// `None` where the ray reaches the far plane first.
+    /// The normal, toward the camera, of the box face the camera ray leaves
+    /// (or, for a receiver box, meets) at each sample; `None` where the ray
+    /// reaches the far plane first.
     face: [Option<DVec3>; MAX_SAMPLES],
     /// The unit light ray at each sample, and the light's factor on the
     /// receiver there ([`light_factor`] of the face's normal, 1 where there
     /// is no face) (after [`Samples::judge`]).
     ray: [DVec3; MAX_SAMPLES],
     light: [f64; MAX_SAMPLES],
+    /// Each sample's weight in the typical ratio ([`Predicted::ratio_product`])
+    /// (after [`Samples::judge`]).
+    weight: [f64; MAX_SAMPLES],
     /// The camera's area magnification `a_C` at each sample (after
     /// [`Samples::judge`]).
     camera: [f64; MAX_SAMPLES],
@@ -69,6 +93,9 @@ pub(crate) struct Samples {
     /// has run.
     reference: [f64; MAX_SAMPLES],
     len: usize,
+    /// The light as a homogeneous point (`w = 0`: toward a directional
+    /// light).
+    light_point: DVec4,
 }
 
 /// A map's predicted aliasing over the samples, up to a factor common to
@@ -77,12 +104,17 @@ pub(crate) struct Samples {
 pub(crate) struct Predicted {
     pub max: f64,
     pub mean: f64,
-    /// Product over the samples of e / e_reference, at most 1 where their
-    /// geometric mean is: whether the map is better than the reference on
-    /// a typical sample, however the samples' magnitudes differ.
+    /// Product over the samples of (e / e_reference)^w, at most 1 where
+    /// their weighted geometric mean is: whether the map is better than the
+    /// reference on a typical sample, however the samples' magnitudes
+    /// differ. The weight `w` is 1 but where the light grazes a receiver,
+    /// where it fades to 0 as [`light_factor`] fades the receiver out: a
+    /// wall lit by 10⁻¹⁷ after rounding votes as little as its aliasing
+    /// weighs, and a sun in the camera's vertical plane fits the same on
+    /// either side of it.
     pub ratio_product: f64,
-    /// How many samples the product runs over.
-    pub samples: usize,
+    /// The sum of the weights the product runs over.
+    pub weight: f64,
 }
 
 impl Predicted {
@@ -103,23 +135,26 @@ impl Predicted {
     /// the mean at most `factor` times the reference's, the typical ratio
     /// (the product's geometric mean) at most `factor`.
     pub fn no_worse_than_by(&self, other: &Predicted, factor: f64) -> bool {
-        self.max <= factor * other.max && self.mean <= factor * other.mean && self.ratio_product <= factor.powi(self.samples as i32)
+        self.max <= factor * other.max && self.mean <= factor * other.mean && self.ratio_product <= factor.powf(self.weight)
     }
 }
 
 impl Samples {
     /// Samples of the split of `sv` inside the bounding box of `body`, or
-    /// on the receiver boxes of its settings where they give any.
-    pub fn new(sv: &SplitView, body: &Body) -> Samples {
+    /// on the receiver boxes of its settings where they give any, for the
+    /// light at the homogeneous point `light_point`.
+    pub fn new(sv: &SplitView, body: &Body, light_point: DVec4) -> Samples {
         let mut s = Samples {
             pts: [DVec3::ZERO; MAX_SAMPLES],
             face: [None; MAX_SAMPLES],
             ray: [DVec3::Z; MAX_SAMPLES],
             light: [1.0; MAX_SAMPLES],
+            weight: [1.0; MAX_SAMPLES],
             camera: [0.0; MAX_SAMPLES],
             clip_from_world: post_perspective(sv.camera, &sv.basis, 0.0),
             reference: [1.0; MAX_SAMPLES],
             len: 0,
+            light_point,
         };
         let (lo, hi) = bounds(body.vertices());
         let cam = sv.camera;
@@ -132,7 +167,7 @@ impl Samples {
                 s.add_ray(sv, b.forward + b.right * (gx * tx) + b.up * (gy * ty), lo, hi);
             }
         }
-        if s.len == 0 {
+        if s.firmly_lit() < MIN_SAMPLES {
             for d in Part::of(sv, body).rays(sv).iter().flatten() {
                 s.add_ray(sv, *d, lo, hi);
             }
@@ -144,7 +179,8 @@ impl Samples {
     /// has one: where it leaves the split or the box `[lo, hi]` (the body's),
     /// or where it first meets one of the engine's receiver boxes (the
     /// split's far end, of unknown orientation, where it is inside one
-    /// there; nothing where it meets none).
+    /// there; nothing where it meets none, or where the face it meets is
+    /// turned away from the light).
     fn add_ray(&mut self, sv: &SplitView, d: DVec3, lo: DVec3, hi: DVec3) {
         let (cam, receivers) = (sv.camera, sv.settings.receivers.as_slice());
         let sample = if receivers.is_empty() {
@@ -152,24 +188,54 @@ impl Samples {
         } else {
             first_box(receivers, cam.eye, d, cam.near, cam.far).map(|(_, z, axis)| (z, axis))
         };
-        if let Some((z, face)) = sample.filter(|_| self.len < MAX_SAMPLES) {
-            self.pts[self.len] = cam.eye + d * z;
-            self.face[self.len] = face.map(|k| DVec3::AXES[k]);
+        if let Some((z, axis)) = sample {
+            // The face the ray leaves or meets along axis k is seen from the
+            // side its ray comes from: its normal toward the camera is −sign(d_k).
+            self.add(cam.eye + d * z, axis.map(|k| DVec3::AXES[k] * -d[k].signum()));
+        }
+    }
+
+    /// How many samples the light reaches at more than a graze (a cosine of
+    /// at least `GRAZING_COS`, below which [`light_factor`] fades a receiver
+    /// out of the prediction). A wall lit by 10⁻¹⁷ after rounding is a
+    /// sample that all but vanishes from the prediction; it must not decide
+    /// whether the part's rays are added, or a sun in the camera's vertical
+    /// plane would fit differently on either side of it.
+    fn firmly_lit(&self) -> usize {
+        let firm = |i: usize| self.face[i].is_none_or(|n| n.dot(unit_direction(self.toward_light(self.pts[i]))) >= GRAZING_COS);
+        (0..self.len).filter(|&i| firm(i)).count()
+    }
+
+    /// The direction from `p` toward the light (of any length).
+    fn toward_light(&self, p: DVec3) -> DVec3 {
+        self.light_point.truncate() - p * self.light_point.w
+    }
+
+    /// Adds the receiver at `p` with its normal `face` toward the camera,
+    /// where there is room and it faces the light (a sample on the far
+    /// plane, of unknown orientation, is taken facing it).
+    fn add(&mut self, p: DVec3, face: Option<DVec3>) {
+        let lit = face.is_none_or(|n| n.dot(self.toward_light(p)) > 0.0);
+        if lit && self.len < MAX_SAMPLES {
+            self.pts[self.len] = p;
+            self.face[self.len] = face;
             self.len += 1;
         }
     }
 
     /// The prediction for `reference` (the map others are compared
     /// against), and which samples it sees; `None` without samples.
-    pub fn judge(&mut self, reference: &DMat4, lp: DVec4) -> Option<Predicted> {
+    pub fn judge(&mut self, reference: &DMat4) -> Option<Predicted> {
         let mut k = 0;
         for i in 0..self.len {
-            let ray = unit_direction(self.pts[i] * lp.w - lp.truncate());
+            let ray = unit_direction(-self.toward_light(self.pts[i]));
             let n = self.face[i].unwrap_or(ray);
             self.pts[k] = self.pts[i];
             self.face[k] = self.face[i];
             self.ray[k] = ray;
-            self.light[k] = light_factor(n.dot(ray).abs());
+            let c = n.dot(ray).abs();
+            self.light[k] = light_factor(c);
+            self.weight[k] = (c / GRAZING_COS).min(1.0);
             self.camera[k] = image_area_scale(&self.clip_from_world, self.pts[i], n);
             let e = self.aliasing(reference, k);
             if e.is_finite() && e > 0.0 {
@@ -198,19 +264,21 @@ impl Samples {
     /// [`Samples::judge`] over the samples it kept; one that `m` does not
     /// see makes the prediction fail every comparison.
     pub fn predict(&self, m: &DMat4) -> Option<Predicted> {
-        let (mut max, mut sum, mut product) = (0.0f64, 0.0, 1.0);
+        let (mut max, mut sum, mut product, mut weight) = (0.0f64, 0.0, 1.0, 0.0);
         for i in 0..self.len {
             let e = self.aliasing(m, i);
             max = max.max(e);
             sum += e;
-            product *= e / self.reference[i];
+            let (r, w) = (e / self.reference[i], self.weight[i]);
+            product *= if w == 1.0 { r } else { r.powf(w) };
+            weight += w;
         }
         // NOTE: a NaN e (a sample the map cannot see) makes the maximum
         // ignore it but the sum and the product NaN, and NaN compares false:
         // refused. An overflow of the product (nine ratios beyond 1e34
         // each) refuses the map too, and an underflow to 0 accepts only a
         // map whose typical ratio is far below 1 anyway.
-        (self.len > 0).then(|| Predicted { max, mean: sum / self.len as f64, ratio_product: product, samples: self.len })
+        (self.len > 0).then(|| Predicted { max, mean: sum / self.len as f64, ratio_product: product, weight })
     }
 }
 
@@ -226,12 +294,12 @@ struct Part {
     sum: DVec3,
     count: usize,
     /// Per direction: the greatest score and its point.
-    extreme: [(f64, DVec3); MAX_SAMPLES - 1],
+    extreme: [(f64, DVec3); RAYS - 1],
 }
 
 impl Part {
     fn of(sv: &SplitView, body: &Body) -> Part {
-        let mut part = Part { sum: DVec3::ZERO, count: 0, extreme: [(f64::NEG_INFINITY, DVec3::ZERO); MAX_SAMPLES - 1] };
+        let mut part = Part { sum: DVec3::ZERO, count: 0, extreme: [(f64::NEG_INFINITY, DVec3::ZERO); RAYS - 1] };
         let (cam, verts) = (sv.camera, body.vertices());
         let depth = |p: DVec3| (p - cam.eye).dot(sv.basis.forward);
         let mut cross = |a: DVec3, b: DVec3| {
@@ -289,7 +357,7 @@ impl Part {
     /// from it to each extreme point: every one meets the body's box within
     /// the split (for the guard's samples where the image's nine rays
     /// miss it: a thin, tilted part between them). `None` for an empty part.
-    fn rays(&self, sv: &SplitView) -> Option<[DVec3; MAX_SAMPLES]> {
+    fn rays(&self, sv: &SplitView) -> Option<[DVec3; RAYS]> {
         if self.count == 0 {
             return None;
         }
@@ -298,7 +366,7 @@ impl Part {
             let v = p - sv.camera.eye;
             v / v.dot(sv.basis.forward)
         };
-        let mut rays = [ray(centre); MAX_SAMPLES];
+        let mut rays = [ray(centre); RAYS];
         for (r, e) in rays[1..].iter_mut().zip(self.extreme) {
             *r = ray(0.5 * (centre + e.1));
         }
@@ -306,11 +374,26 @@ impl Part {
     }
 }
 
+/// The bounding box of `pts`, rounded outward by a few ulps of its
+/// largest coordinate.
+///
+/// NOTE: the body's vertices include the view's far corners, and the
+/// image's corner rays pass through them: on the box's edge at the far
+/// plane, where rounding alone decided whether the ray left through the far
+/// plane (a receiver facing the light) or through a side face (one the
+/// light may graze, whose vote vanishes). Rounded outward, the box holds
+/// every vertex strictly, and such a ray leaves through the far plane
+/// whichever way its own rounding falls.
 fn bounds(pts: &[DVec3]) -> (DVec3, DVec3) {
     let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
     for p in pts {
         lo = lo.min(*p);
         hi = hi.max(*p);
     }
-    (lo, hi)
+    let pad = lo.abs().max(hi.abs()).max_element() * (8.0 * f64::EPSILON);
+    if !pad.is_finite() {
+        // No points (an empty box, which no ray meets).
+        return (lo, hi);
+    }
+    (lo - DVec3::splat(pad), hi + DVec3::splat(pad))
 }

@@ -4,8 +4,9 @@
 //! Every candidate — the uniform map, LiSPSM, TSM and PSM, each with its
 //! own warp guard (so each is already no worse than the uniform map by the
 //! prediction) — is fitted to the same body and judged on the same receiver
-//! samples ([`Samples`]: where nine camera rays leave the body's box, with
-//! the receivers' normals there, the warp guard's own). The least predicted
+//! samples ([`Samples`]: where nine camera rays leave the body's box on a
+//! face the light reaches, with the receivers' normals there, the warp
+//! guard's own). The least predicted
 //! maximum wins; a tie goes to the earlier candidate, so the uniform map is
 //! kept unless a warp is strictly better. Without samples (the split sees
 //! nothing of the body's box) the uniform map is kept.
@@ -39,7 +40,7 @@ const CANDIDATES: [Method; 4] = [Method::Uniform, Method::Lispsm, Method::Tsm, M
 /// The candidate map of `body` with the least predicted maximum aliasing.
 pub(super) fn auto(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted> {
     let lp = light_point(light);
-    let mut samples = Samples::new(sv, body);
+    let mut samples = Samples::new(sv, body, lp);
     let mut best: Option<(Fitted, Predicted)> = None;
     // The uniform map, TSM and PSM share the light's frame along the view
     // direction, LiSPSM and its sweep the frame along its warp direction,
@@ -51,7 +52,7 @@ pub(super) fn auto(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted>
         let view = SplitView { camera: sv.camera, basis: sv.basis, settings: &settings };
         let share = if method == Method::Lispsm { &mut along_warp } else { &mut along_view };
         let Some(f) = fit_body_shared(&view, light, body, &Held::NONE, share) else { continue };
-        let predicted = if method == Method::Uniform { samples.judge(&f.m, lp) } else { samples.predict(&f.m) };
+        let predicted = if method == Method::Uniform { samples.judge(&f.m) } else { samples.predict(&f.m) };
         let Some(p) = predicted else {
             // Nothing to judge by: the uniform map, or the first that fits.
             if best.is_none() {

@@ -147,9 +147,9 @@ pub(super) fn stable_warped(
         // Hysteresis: a new warp must not lose; one held whole from the last
         // frame stays while it does not lose by more than GUARD_HOLD.
         let factor = if held.is_some_and(|h| h.extent == extent) { GUARD_HOLD } else { 1.0 };
-        let mut samples = Samples::new(sv, body);
+        let mut samples = Samples::new(sv, body, light_point(light));
         // NOTE: with no sample to judge by, the warp is given up (see `choose_warp`).
-        let target = samples.judge(&reference.m, light_point(light));
+        let target = samples.judge(&reference.m);
         if !target.is_some_and(|t| samples.predict(&mm).is_some_and(|p| p.no_worse_than_by(&t, factor))) {
             return given_up(true);
         }

@@ -134,8 +134,8 @@ impl WarpShare {
     /// reference's prediction.
     pub(super) fn guard(&mut self, sv: &SplitView, light: &Light, body: &Body, reference: &DMat4) -> &(Samples, Option<Predicted>) {
         self.guard.get_or_insert_with(|| {
-            let mut samples = Samples::new(sv, body);
-            let target = samples.judge(reference, light_point(light));
+            let mut samples = Samples::new(sv, body, light_point(light));
+            let target = samples.judge(reference);
             (samples, target)
         })
     }
