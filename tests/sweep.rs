@@ -106,6 +106,13 @@ fn row_violations(what: &str, r: &SweepRow, limit: f64, v: &mut Vec<String>) {
     }
 }
 
+/// The rows of `s` where (b) is judged at all: those whose light's uniform
+/// map (the first of the `methods` rendered per light) covers at least
+/// `MIN_SLICE_PIXELS` receiver pixels.
+fn covered_rows(s: &Sweep, methods: usize) -> impl Iterator<Item = &SweepRow> {
+    s.rows.iter().filter(move |r| s.rows[r.light_index * methods].aliasing.pixels >= MIN_SLICE_PIXELS)
+}
+
 /// Whether (b) judges `r`: the warps, and PSM unless it fell back to the
 /// uniform map.
 fn judged(r: &SweepRow) -> bool {
@@ -240,11 +247,7 @@ fn thin_view_slices_warp_no_worse_than_uniform() {
                 let lights = std::iter::once(own).chain(suns).collect();
                 let plan = SweepPlan { camera, lights, methods: methods.clone(), resolution: RES, size: SMALL_SIZE };
                 let s = sweep::sweep(renderer, &scene, &plan, |_, _, _| {}).unwrap();
-                for r in &s.rows {
-                    let u = &s.rows[r.light_index * methods.len()];
-                    if u.aliasing.pixels < MIN_SLICE_PIXELS {
-                        continue;
-                    }
+                for r in covered_rows(&s, methods.len()) {
                     judged += 1;
                     let tsm = r.method == "tsm" || r.method == "auto";
                     let limit = if tsm { TSM_SLICE_LIMIT } else { WARP_LIMIT };
@@ -307,11 +310,7 @@ fn unusual_cameras_keep_right_shadows_and_warps_near_the_uniform_map() {
             .collect();
         let plan = SweepPlan::grid(camera, &[5.0, 35.0, 80.0], &[0.0, 90.0, 180.0, 270.0], methods.clone(), RES, SMALL_SIZE);
         let s = sweep::sweep(renderer, &scene, &plan, |_, _, _| {}).unwrap();
-        for r in &s.rows {
-            let u = &s.rows[r.light_index * methods.len()];
-            if u.aliasing.pixels < MIN_SLICE_PIXELS {
-                continue;
-            }
+        for r in covered_rows(&s, methods.len()) {
             count += 1;
             row_violations(&format!("{name} eye {eye} forward {forward} {}", r.label()), r, UNUSUAL_CAMERA_LIMIT, &mut v);
             if judged(r) {
