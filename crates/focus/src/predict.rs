@@ -72,20 +72,16 @@ pub(crate) const MAX_SAMPLES: usize = RAYS + MIN_SAMPLES - 1;
 /// Receiver samples of one split.
 pub(crate) struct Samples {
     pts: [DVec3; MAX_SAMPLES],
-    /// The normal, toward the camera, of the box face the camera ray leaves
-    /// (or, for a receiver box, meets) at each sample; `None` where the ray
-    /// reaches the far plane first.
-    face: [Option<DVec3>; MAX_SAMPLES],
     /// The unit light ray at each sample, and the light's factor on the
-    /// receiver there ([`light_factor`] of the face's normal, 1 where there
-    /// is no face) (after [`Samples::judge`]).
+    /// receiver there ([`light_factor`] of the receiver's normal: that of
+    /// the box face the camera ray leaves or, for a receiver box, meets;
+    /// facing the light where the ray reaches the far plane first).
     ray: [DVec3; MAX_SAMPLES],
     light: [f64; MAX_SAMPLES],
-    /// Each sample's weight in the typical ratio ([`Predicted::ratio_product`])
-    /// (after [`Samples::judge`]).
+    /// Each sample's weight in the typical ratio ([`Predicted::ratio_product`]).
     weight: [f64; MAX_SAMPLES],
-    /// The camera's area magnification `a_C` at each sample (after
-    /// [`Samples::judge`]).
+    /// The camera's area magnification `a_C` at each sample, on the
+    /// receiver's plane.
     camera: [f64; MAX_SAMPLES],
     /// The camera's clip matrix (its area scale is all that is used).
     clip_from_world: DMat4,
@@ -146,7 +142,6 @@ impl Samples {
     pub fn new(sv: &SplitView, body: &Body, light_point: DVec4) -> Samples {
         let mut s = Samples {
             pts: [DVec3::ZERO; MAX_SAMPLES],
-            face: [None; MAX_SAMPLES],
             ray: [DVec3::Z; MAX_SAMPLES],
             light: [1.0; MAX_SAMPLES],
             weight: [1.0; MAX_SAMPLES],
@@ -201,9 +196,12 @@ impl Samples {
     /// sample that all but vanishes from the prediction; it must not decide
     /// whether the part's rays are added, or a sun in the camera's vertical
     /// plane would fit differently on either side of it.
+    ///
+    /// NOTE: the weight is 1 exactly where that cosine is at least
+    /// `GRAZING_COS` (a cosine below it divides by it to at most the double
+    /// below 1).
     fn firmly_lit(&self) -> usize {
-        let firm = |i: usize| self.face[i].is_none_or(|n| n.dot(unit_direction(self.toward_light(self.pts[i]))) >= GRAZING_COS);
-        (0..self.len).filter(|&i| firm(i)).count()
+        self.weight[..self.len].iter().filter(|&&w| w == 1.0).count()
     }
 
     /// The direction from `p` toward the light (of any length).
@@ -213,14 +211,22 @@ impl Samples {
 
     /// Adds the receiver at `p` with its normal `face` toward the camera,
     /// where there is room and it faces the light (a sample on the far
-    /// plane, of unknown orientation, is taken facing it).
+    /// plane, of unknown orientation, is taken facing it), with what its
+    /// prediction needs of the light and the camera.
     fn add(&mut self, p: DVec3, face: Option<DVec3>) {
-        let lit = face.is_none_or(|n| n.dot(self.toward_light(p)) > 0.0);
-        if lit && self.len < MAX_SAMPLES {
-            self.pts[self.len] = p;
-            self.face[self.len] = face;
-            self.len += 1;
+        let toward = self.toward_light(p);
+        let lit = face.is_none_or(|n| n.dot(toward) > 0.0);
+        if !(lit && self.len < MAX_SAMPLES) {
+            return;
         }
+        let k = self.len;
+        let ray = unit_direction(-toward);
+        let n = face.unwrap_or(ray);
+        let c = n.dot(ray).abs();
+        (self.pts[k], self.ray[k], self.light[k]) = (p, ray, light_factor(c));
+        self.weight[k] = (c / GRAZING_COS).min(1.0);
+        self.camera[k] = image_area_scale(&self.clip_from_world, p, n);
+        self.len += 1;
     }
 
     /// The prediction for `reference` (the map others are compared
@@ -228,18 +234,10 @@ impl Samples {
     pub fn judge(&mut self, reference: &DMat4) -> Option<Predicted> {
         let mut k = 0;
         for i in 0..self.len {
-            let ray = unit_direction(-self.toward_light(self.pts[i]));
-            let n = self.face[i].unwrap_or(ray);
-            self.pts[k] = self.pts[i];
-            self.face[k] = self.face[i];
-            self.ray[k] = ray;
-            let c = n.dot(ray).abs();
-            self.light[k] = light_factor(c);
-            self.weight[k] = (c / GRAZING_COS).min(1.0);
-            self.camera[k] = image_area_scale(&self.clip_from_world, self.pts[i], n);
-            let e = self.aliasing(reference, k);
+            let e = self.aliasing(reference, i);
             if e.is_finite() && e > 0.0 {
-                self.reference[k] = e;
+                (self.pts[k], self.ray[k], self.light[k]) = (self.pts[i], self.ray[i], self.light[i]);
+                (self.weight[k], self.camera[k], self.reference[k]) = (self.weight[i], self.camera[i], e);
                 k += 1;
             }
         }
