@@ -28,6 +28,14 @@ impl Visibility {
     pub fn is_lit(self) -> bool {
         self == Visibility::Lit
     }
+
+    /// Whether a shadow can show here: a surface the light would reach
+    /// but for what stands in its way (lit or occluded), not one facing
+    /// away from the light or outside a spot's pyramid, whatever a map
+    /// answers there.
+    pub fn shows_shadow(self) -> bool {
+        matches!(self, Visibility::Lit | Visibility::Occluded)
+    }
 }
 
 /// All scene triangles in a BVH, in f64.

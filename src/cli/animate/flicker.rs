@@ -69,7 +69,7 @@ impl Flicker {
         let lit = |x: i64, y: i64| truth[(y.clamp(0, h - 1) * w + x.clamp(0, w - 1)) as usize].is_lit();
         let mut probes = Vec::new();
         for (i, px) in first.world.iter().enumerate().step_by(stride.max(1)) {
-            if px[3] != 1.0 || matches!(truth[i], Visibility::BackFacing | Visibility::OutsideSpot) {
+            if px[3] != 1.0 || !truth[i].shows_shadow() {
                 continue;
             }
             let (x, y) = (i as i64 % w, i as i64 / w);
