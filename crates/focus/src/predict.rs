@@ -70,6 +70,7 @@ const MIN_SAMPLES: usize = 3;
 pub(crate) const MAX_SAMPLES: usize = RAYS + MIN_SAMPLES - 1;
 
 /// Receiver samples of one split.
+#[derive(Clone)]
 pub(crate) struct Samples {
     pts: [DVec3; MAX_SAMPLES],
     /// The unit light ray at each sample, and the light's factor on the

@@ -28,6 +28,7 @@
 //! scale.
 
 use super::lispsm::lispsm_swept;
+use super::warp::ShareSlot;
 use super::{fit_body_shared, light_point, Fitted, SplitView};
 use crate::predict::{Predicted, Samples};
 use crate::settings::{FocusSettings, Method};
@@ -39,14 +40,14 @@ const CANDIDATES: [Method; 4] = [Method::Uniform, Method::Lispsm, Method::Tsm, M
 
 /// The candidate map of `body` with the least predicted maximum aliasing.
 pub(super) fn auto(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted> {
-    let lp = light_point(light);
-    let mut samples = Samples::new(sv, body, lp);
+    let mut samples = Samples::new(sv, body, light_point(light));
     let mut best: Option<(Fitted, Predicted)> = None;
     // The uniform map, TSM and PSM share the light's frame along the view
     // direction, LiSPSM and its sweep the frame along its warp direction,
     // with their guards' references and samples (the maps are those each
-    // fits alone, bit for bit).
-    let (mut along_view, mut along_warp) = (None, None);
+    // fits alone, bit for bit); both guards judge the samples found here.
+    let mut along_view = ShareSlot::with_samples(samples.clone());
+    let mut along_warp = ShareSlot::with_samples(samples.clone());
     for method in CANDIDATES {
         let settings = FocusSettings { method, ..*sv.settings };
         let view = SplitView { camera: sv.camera, basis: sv.basis, settings: &settings };

@@ -3,7 +3,7 @@
 //! practical formulation gives it [SCH05]; the warp direction is the view
 //! direction or the middle vector.
 
-use super::warp::{swept_warp, warped, Frame, WarpShare};
+use super::warp::{swept_warp, warped, Frame, ShareSlot};
 use super::{image, image_scale, Fitted, SplitView};
 use crate::predict::{Predicted, Samples};
 use crate::settings::WarpDirection;
@@ -11,8 +11,8 @@ use crate::state::WarpHold;
 use glam::{DMat4, DVec3};
 use shadowfocus_geom::{Body, Camera, Dimension, Light};
 
-/// The LiSPSM map of `body` (`share`: see [`WarpShare`]).
-pub(super) fn lispsm(sv: &SplitView, light: &Light, body: &Body, hold: &WarpHold, share: &mut Option<WarpShare>) -> Option<Fitted> {
+/// The LiSPSM map of `body` (`share`: see [`ShareSlot`]).
+pub(super) fn lispsm(sv: &SplitView, light: &Light, body: &Body, hold: &WarpHold, share: &mut ShareSlot) -> Option<Fitted> {
     let v = warp_direction(sv, body);
     warped(sv, light, body, v, hold, share, |fr: &Frame| n_opt_warp(sv, body, v, fr))
 }
@@ -24,7 +24,7 @@ pub(super) fn lispsm_swept(
     sv: &SplitView,
     light: &Light,
     body: &Body,
-    share: &mut Option<WarpShare>,
+    share: &mut ShareSlot,
     samples: &Samples,
 ) -> Option<(Fitted, Predicted)> {
     let v = warp_direction(sv, body);

@@ -101,12 +101,12 @@ fn spot_axis(light: &Light) -> Option<DVec3> {
 /// is what the map's stable construction chose in the previous frame
 /// ([`Held::NONE`]: nothing, see [`crate::FitState`]).
 pub(crate) fn fit_body(sv: &SplitView, light: &Light, body: &Body, hold: &Held) -> Option<Fitted> {
-    fit_body_shared(sv, light, body, hold, &mut None)
+    fit_body_shared(sv, light, body, hold, &mut warp::ShareSlot::default())
 }
 
 /// [`fit_body`], LiSPSM and TSM reusing what `share` holds for the same
 /// body and view vector (see [`warp::WarpShare`]).
-fn fit_body_shared(sv: &SplitView, light: &Light, body: &Body, hold: &Held, share: &mut Option<warp::WarpShare>) -> Option<Fitted> {
+fn fit_body_shared(sv: &SplitView, light: &Light, body: &Body, hold: &Held, share: &mut warp::ShareSlot) -> Option<Fitted> {
     let s = sv.settings;
     let directional = matches!(light, Light::Directional { .. });
     let spot = matches!(light, Light::Spot { .. });

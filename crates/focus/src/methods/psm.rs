@@ -3,7 +3,7 @@
 //! longer shifts where the prediction says it would alias more than the
 //! uniform map.
 
-use super::warp::WarpShare;
+use super::warp::{ShareSlot, WarpShare};
 use super::{light_point, orient, Fitted, SplitView};
 #[cfg(doc)]
 use crate::predict::Predicted;
@@ -39,7 +39,7 @@ use shadowfocus_geom::{Body, Light, MAX_VERTICES};
 /// the first that the prediction accepts is kept, else the uniform map,
 /// marked as PSM's fallback (`psm_fell_back`). `None` only where no PSM
 /// projection exists (the caller then fits the uniform map).
-pub(super) fn psm(sv: &SplitView, light: &Light, body: &Body, share: &mut Option<WarpShare>) -> Option<Fitted> {
+pub(super) fn psm(sv: &SplitView, light: &Light, body: &Body, share: &mut ShareSlot) -> Option<Fitted> {
     let cam = sv.camera;
     let b = &sv.basis;
     let verts = body.vertices();

@@ -1,13 +1,13 @@
 //! TSM [TSM04]: the trapezoid around the body's image whose top line is
 //! its near end, with the focus point mapped to the 80 % line.
 
-use super::warp::{warped, Frame, WarpShare};
+use super::warp::{warped, Frame, ShareSlot};
 use super::{image, Fitted, SplitView};
 use crate::state::WarpHold;
 use shadowfocus_geom::{Body, Light};
 
-/// The TSM map of `body` (`share`: see [`WarpShare`]).
-pub(super) fn tsm(sv: &SplitView, light: &Light, body: &Body, hold: &WarpHold, share: &mut Option<WarpShare>) -> Option<Fitted> {
+/// The TSM map of `body` (`share`: see [`ShareSlot`]).
+pub(super) fn tsm(sv: &SplitView, light: &Light, body: &Body, hold: &WarpHold, share: &mut ShareSlot) -> Option<Fitted> {
     let s = sv.settings;
     let cam = sv.camera;
     let f = sv.basis.forward;

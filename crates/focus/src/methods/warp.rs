@@ -35,14 +35,14 @@ pub(super) struct Frame {
 /// uniform one, marked as a vanished warp. Stable maps of a directional
 /// light are [`stable_warped`]'s, holding the steps of `hold`. `share`
 /// keeps what a second warp along the same `v` for the same body reuses
-/// (see [`WarpShare`]); pass `&mut None` for one warp.
+/// (see [`WarpShare`]); pass an empty [`ShareSlot`] for one warp.
 pub(super) fn warped(
     sv: &SplitView,
     light: &Light,
     body: &Body,
     v: DVec3,
     hold: &WarpHold,
-    share: &mut Option<WarpShare>,
+    share: &mut ShareSlot,
     warp_of: impl FnOnce(&Frame) -> (f64, f64),
 ) -> Option<Fitted> {
     let s = sv.settings;
@@ -75,23 +75,45 @@ pub(super) struct WarpShare {
     frame: Option<Option<Frame>>,
     reference: Option<Option<Fitted>>,
     guard: Option<(Samples, Option<Predicted>)>,
+    /// The guard's samples before judging, where the slot had them.
+    unjudged: Option<Samples>,
+}
+
+/// Where the [`WarpShare`] of one body lives between the maps that share
+/// it, with the guard's receiver samples before any map judged them, where
+/// the caller has them already (Auto's candidates along two vectors: the
+/// samples depend on the split, the body and the light only).
+#[derive(Default)]
+pub(super) struct ShareSlot {
+    share: Option<WarpShare>,
+    samples: Option<Samples>,
+}
+
+impl ShareSlot {
+    /// A slot whose guard judges `samples` (those [`Samples::new`] gives for
+    /// the same split, body and light) instead of finding them again.
+    pub(super) fn with_samples(samples: Samples) -> ShareSlot {
+        ShareSlot { share: None, samples: Some(samples) }
+    }
 }
 
 impl WarpShare {
     /// The share for `v` in `slot`, made anew where it holds another
     /// vector's; `None` where the light has no central projection.
-    pub(super) fn along<'a>(
-        slot: &'a mut Option<WarpShare>,
-        sv: &SplitView,
-        light: &Light,
-        body: &Body,
-        v: DVec3,
-    ) -> Option<&'a mut WarpShare> {
-        if slot.as_ref().is_none_or(|w| w.v != v) {
+    pub(super) fn along<'a>(slot: &'a mut ShareSlot, sv: &SplitView, light: &Light, body: &Body, v: DVec3) -> Option<&'a mut WarpShare> {
+        if slot.share.as_ref().is_none_or(|w| w.v != v) {
             let c = light_space(sv, light, body.vertices(), v)?;
-            *slot = Some(WarpShare { v, central: c.m, centre: c.centre, frame: None, reference: None, guard: None });
+            slot.share = Some(WarpShare {
+                v,
+                central: c.m,
+                centre: c.centre,
+                frame: None,
+                reference: None,
+                guard: None,
+                unjudged: slot.samples.clone(),
+            });
         }
-        slot.as_mut()
+        slot.share.as_mut()
     }
 
     /// The light's image turned along `v`, with the body's extent in it.
@@ -133,8 +155,9 @@ impl WarpShare {
     /// The receiver samples of the body, judged against `reference`, and the
     /// reference's prediction.
     pub(super) fn guard(&mut self, sv: &SplitView, light: &Light, body: &Body, reference: &DMat4) -> &(Samples, Option<Predicted>) {
+        let unjudged = &mut self.unjudged;
         self.guard.get_or_insert_with(|| {
-            let mut samples = Samples::new(sv, body, light_point(light));
+            let mut samples = unjudged.take().unwrap_or_else(|| Samples::new(sv, body, light_point(light)));
             let target = samples.judge(reference);
             (samples, target)
         })
@@ -236,7 +259,7 @@ pub(super) fn swept_warp(
     light: &Light,
     body: &Body,
     v: DVec3,
-    share: &mut Option<WarpShare>,
+    share: &mut ShareSlot,
     samples: &Samples,
     warp_of: impl FnOnce(&Frame) -> (f64, f64),
 ) -> Option<(Fitted, Predicted)> {
