@@ -37,20 +37,28 @@
 //! map's aliasing. Where fewer than `MIN_SAMPLES` remain (a thin slice of
 //! a steep view, whose body lies between the rays; a board seen from
 //! straight above), rays through the body's own part in the split add
-//! theirs ([`Part`]), and a warp with no sample at all to judge it is not
-//! kept: unjudged, a split's TSM map aliased up to 80× the uniform map's
-//! (`tests/sweep.rs`, view slices).
+//! theirs ([`Part`]). Where even those leave fewer (looking up from beyond
+//! a board's edge, the ground a strip between the rays, the part mostly
+//! air), rays through the faces of the box that the camera sees from inside
+//! it, clipped to the split's frustum, add theirs ([`faces`]). A warp with
+//! no sample at all to judge it is not kept: unjudged, a split's TSM map
+//! aliased up to 80× the uniform map's (`tests/sweep.rs`, view slices).
 //!
 //! Where the engine passes receiver boxes ([`crate::FocusSettings::receivers`]),
 //! the samples are where the rays first meet one in the split instead (its
 //! far end where a ray is still inside one there), and a ray that meets
 //! none has no sample.
 
+mod faces;
+mod part;
+
 use crate::project::post_perspective;
 use crate::project::{crop_estimate, image_area_scale, light_factor, GRAZING_COS};
 use crate::receiver_rays::{clip_ray, first_box};
 use crate::split_view::SplitView;
+use faces::{face_rays, lit_faces, FACE_RAYS};
 use glam::{DMat4, DVec3, DVec4};
+use part::Part;
 use shadowfocus_geom::{unit_direction, Body};
 
 /// Camera rays of the samples: the image's corners, edge midpoints and
@@ -65,9 +73,14 @@ const RAYS: usize = 9;
 /// than the uniform map and rendered 1.7× more.
 const MIN_SAMPLES: usize = 3;
 
-/// Most samples: one point on each image ray, or fewer than `MIN_SAMPLES`
-/// of those and one on each ray through the body's part.
-pub(crate) const MAX_SAMPLES: usize = RAYS + MIN_SAMPLES - 1;
+/// Most samples from the image's and the part's rays: one point on each
+/// image ray, or fewer than `MIN_SAMPLES` of those and one on each ray
+/// through the body's part.
+const RAY_SAMPLES: usize = RAYS + MIN_SAMPLES - 1;
+
+/// Most samples: those, and room for one face's rays ([`faces`]) where they
+/// leave fewer than `MIN_SAMPLES` the light reaches at more than a graze.
+const MAX_SAMPLES: usize = RAY_SAMPLES + FACE_RAYS;
 
 /// Receiver samples of one split.
 #[derive(Clone)]
@@ -165,7 +178,20 @@ impl Samples {
         }
         if s.firmly_lit() < MIN_SAMPLES {
             for d in Part::of(sv, body).rays(sv).iter().flatten() {
-                s.add_ray(sv, *d, lo, hi);
+                if s.len < RAY_SAMPLES {
+                    s.add_ray(sv, *d, lo, hi);
+                }
+            }
+        }
+        if sv.settings.receivers.as_slice().is_empty() {
+            let (faces, lit) = lit_faces(lo, hi, light_point);
+            for &face in &faces[..lit] {
+                if s.firmly_lit() >= MIN_SAMPLES {
+                    break;
+                }
+                for d in face_rays(sv, lo, hi, face).iter().flatten() {
+                    s.add_ray(sv, *d, lo, hi);
+                }
             }
         }
         s
@@ -278,98 +304,6 @@ impl Samples {
         // each) refuses the map too, and an underflow to 0 accepts only a
         // map whose typical ratio is far below 1 anyway.
         (self.len > 0).then(|| Predicted { max, mean: sum / self.len as f64, ratio_product: product, weight })
-    }
-}
-
-/// The body's part in a split's depth range, as the camera sees it: the
-/// centre of its points and the extreme one in each of eight image
-/// directions (image `x`, `y` and both diagonals, each way).
-///
-/// Its points are the body's vertices within the depth range and the
-/// points where the body's edges cross the near or the far plane: the
-/// part's vertices are among them, and the body being convex, each is a
-/// point of it.
-struct Part {
-    sum: DVec3,
-    count: usize,
-    /// Per direction: the greatest score and its point.
-    extreme: [(f64, DVec3); RAYS - 1],
-}
-
-impl Part {
-    fn of(sv: &SplitView, body: &Body) -> Part {
-        let mut part = Part { sum: DVec3::ZERO, count: 0, extreme: [(f64::NEG_INFINITY, DVec3::ZERO); RAYS - 1] };
-        let (cam, verts) = (sv.camera, body.vertices());
-        let depth = |p: DVec3| (p - cam.eye).dot(sv.basis.forward);
-        let mut cross = |a: DVec3, b: DVec3| {
-            let (da, db) = (depth(a), depth(b));
-            for plane in [cam.near, cam.far] {
-                if (da < plane) != (db < plane) {
-                    // NOTE: from the nearer end, so that the point lies on
-                    // the edge however the depths round.
-                    let (p, q, dp, dq) = if da < db { (a, b, da, db) } else { (b, a, db, da) };
-                    part.add(sv, p + (q - p) * ((plane - dp) / (dq - dp)).clamp(0.0, 1.0));
-                }
-            }
-        };
-        if body.face_count() > 0 {
-            for face in body.faces() {
-                for (&i, &j) in face.iter().zip(face.iter().cycle().skip(1)) {
-                    cross(verts[i as usize], verts[j as usize]);
-                }
-            }
-        } else {
-            for (i, &a) in verts.iter().enumerate() {
-                for &b in &verts[i + 1..] {
-                    cross(a, b);
-                }
-            }
-        }
-        for &p in verts {
-            let d = depth(p);
-            if d >= cam.near && d <= cam.far {
-                part.add(sv, p);
-            }
-        }
-        part
-    }
-
-    fn add(&mut self, sv: &SplitView, p: DVec3) {
-        let b = &sv.basis;
-        let v = p - sv.camera.eye;
-        let z = v.dot(b.forward);
-        let (x, y) = (v.dot(b.right) / z, v.dot(b.up) / z);
-        if !(x.is_finite() && y.is_finite()) {
-            return;
-        }
-        self.sum += p;
-        self.count += 1;
-        let scores = [x, -x, y, -y, x + y, -x - y, x - y, y - x];
-        for (e, score) in self.extreme.iter_mut().zip(scores) {
-            if score > e.0 {
-                *e = (score, p);
-            }
-        }
-    }
-
-    /// Camera rays (`d·forward = 1`) through the part's centre and halfway
-    /// from it to each extreme point: every one meets the body's box within
-    /// the split (for the guard's samples where the image's nine rays
-    /// miss it: a thin, tilted part between them). `None` for an empty part.
-    fn rays(&self, sv: &SplitView) -> Option<[DVec3; RAYS]> {
-        if self.count == 0 {
-            return None;
-        }
-        let centre = self.sum / self.count as f64;
-        let ray = |p: DVec3| {
-            let v = p - sv.camera.eye;
-            v / v.dot(sv.basis.forward)
-        };
-        let mut rays = [ray(centre); RAYS];
-        for (r, e) in rays[1..].iter_mut().zip(self.extreme) {
-            *r = ray(0.5 * (centre + e.1));
-        }
-        Some(rays)
     }
 }
 
