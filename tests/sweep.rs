@@ -277,7 +277,7 @@ fn thin_view_slices_warp_no_worse_than_uniform() {
 /// where it covers at least `MIN_SLICE_PIXELS` receiver pixels. The warp
 /// guard's samples once stood on the underside of the body's box, air the
 /// sun does not light: looking up over the city, LiSPSM aliased 1.59× the
-/// uniform map (`crates/focus/src/predict.rs`).
+/// uniform map (`crates/focus/src/predict/`).
 #[test]
 fn unusual_cameras_keep_right_shadows_and_warps_near_the_uniform_map() {
     let mut guard = RENDERER.lock().unwrap_or_else(|e| e.into_inner());

@@ -183,7 +183,7 @@ impl Samples {
                 }
             }
         }
-        if sv.settings.receivers.as_slice().is_empty() {
+        if s.firmly_lit() < MIN_SAMPLES && sv.settings.receivers.as_slice().is_empty() {
             let (faces, lit) = lit_faces(lo, hi, light_point);
             for &face in &faces[..lit] {
                 if s.firmly_lit() >= MIN_SAMPLES {
