@@ -40,9 +40,12 @@ const SMALL_SIZE: (u32, u32) = (320, 180);
 const MIN_SLICE_PIXELS: u64 = 300;
 /// Largest p95 and maximum aliasing of a warped map over the uniform one's.
 const WARP_LIMIT: f64 = 1.1;
-/// The same for TSM and Auto on view slices (measured: at most 2.19×, TSM under a sun
-/// beside the view).
+/// The same for TSM on view slices (measured: at most 2.19×, under a sun beside the
+/// view).
 const TSM_SLICE_LIMIT: f64 = 2.5;
+/// The same for Auto on view slices, where it takes TSM (measured: at most 1.22×, the
+/// inverted scene's slice 31–63 m under a 10° sun behind the viewer).
+const AUTO_SLICE_LIMIT: f64 = 1.25;
 /// The same for the warps under cameras the built-in scenes do not have
 /// (measured: at most 1.16×, Auto in the forest seen from 20 m with a 120°
 /// lens under a low sun ahead; PSM and Auto 1.13× on the inverted scene
@@ -213,15 +216,16 @@ fn every_builtin_scene_four_split_sweep_at_a_smaller_image_has_right_shadows() {
 /// the warp guard miss a thin slice of a steep view; there the guard samples rays through
 /// the slice's body, and with no sample at all it keeps no warp. Before, such warps went
 /// unjudged: 70 violations over both, a TSM map at up to 82× the uniform map's aliasing
-/// (LiSPSM 1.4× on the chessboard's slice under its spot light). TSM and Auto (which
-/// takes TSM where the prediction prefers it) are held to `TSM_SLICE_LIMIT` only: with
-/// samples the nine-sample prediction still misjudges TSM on a few slices
-/// (`crates/eval/RESULTS.md`, "Slices of the view").
+/// (LiSPSM 1.4× on the chessboard's slice under its spot light). TSM is held to
+/// `TSM_SLICE_LIMIT` only, and Auto, which takes TSM where the prediction prefers it, to
+/// `AUTO_SLICE_LIMIT`: with samples the nine-sample prediction still misjudges TSM on a
+/// few slices, where the three rays that meet the ground in the slice all meet it at its
+/// near end (`crates/eval/RESULTS.md`, "Slices of the view").
 #[test]
 fn thin_view_slices_warp_no_worse_than_uniform() {
     let mut guard = RENDERER.lock().unwrap_or_else(|e| e.into_inner());
     let renderer = guard.get_or_insert_with(|| Renderer::from_env().expect("a wgpu adapter (llvmpipe on a fresh machine)"));
-    let (mut judged, mut v, mut tsm_worst) = (0, Vec::new(), 0.0f64);
+    let (mut judged, mut v, mut tsm_worst, mut auto_worst) = (0, Vec::new(), 0.0f64, 0.0f64);
     for boxes in [false, true] {
         let methods: Vec<_> = ["uniform", "psm", "lispsm", "tsm", "auto"]
             .iter()
@@ -249,17 +253,18 @@ fn thin_view_slices_warp_no_worse_than_uniform() {
                 let s = sweep::sweep(renderer, &scene, &plan, |_, _, _| {}).unwrap();
                 for r in covered_rows(&s, methods.len()) {
                     judged += 1;
-                    let tsm = r.method == "tsm" || r.method == "auto";
-                    let limit = if tsm { TSM_SLICE_LIMIT } else { WARP_LIMIT };
+                    let (limit, worst) = match r.method.as_str() {
+                        "tsm" => (TSM_SLICE_LIMIT, &mut tsm_worst),
+                        "auto" => (AUTO_SLICE_LIMIT, &mut auto_worst),
+                        _ => (WARP_LIMIT, &mut 0.0),
+                    };
+                    *worst = worst.max(r.p95_ratio).max(r.max_ratio);
                     row_violations(&format!("{name} depths {near:.2}–{far:.2} boxes {boxes} {}", r.label()), r, limit, &mut v);
-                    if tsm {
-                        tsm_worst = tsm_worst.max(r.p95_ratio).max(r.max_ratio);
-                    }
                 }
             }
         }
     }
-    eprintln!("{judged} slice configurations judged, {} violations; TSM and Auto at most {tsm_worst:.3}× uniform's", v.len());
+    eprintln!("{judged} slice configurations judged, {} violations; TSM at most {tsm_worst:.3}×, Auto {auto_worst:.3}× uniform's", v.len());
     assert!(v.is_empty(), "{} violations:\n{}", v.len(), v.join("\n"));
     assert!(judged >= 800, "only {judged} slice configurations have {MIN_SLICE_PIXELS} receiver pixels to judge");
 }
