@@ -28,7 +28,7 @@ pub(super) fn face_rays(sv: &SplitView, lo: DVec3, hi: DVec3, face: usize) -> [O
     let (axis, upper) = (face / 2, face % 2 == 1);
     let plane = if upper { hi[axis] } else { lo[axis] };
     let inside = if upper { sv.camera.eye[axis] < plane } else { sv.camera.eye[axis] > plane };
-    if !inside {
+    if !(inside && lo.is_finite() && hi.is_finite()) {
         return rays;
     }
     let mut poly = [DVec3::ZERO; MAX_CORNERS];
