@@ -90,8 +90,9 @@ pub(super) struct ShareSlot {
 }
 
 impl ShareSlot {
-    /// A slot whose guard judges `samples` (those [`Samples::new`] gives for
-    /// the same split, body and light) instead of finding them again.
+    /// A slot whose first share's guard judges `samples` (those
+    /// [`Samples::new`] gives for the same split, body and light) instead of
+    /// finding them again; a share made anew for another vector finds its own.
     pub(super) fn with_samples(samples: Samples) -> ShareSlot {
         ShareSlot { share: None, samples: Some(samples) }
     }
@@ -110,7 +111,7 @@ impl WarpShare {
                 frame: None,
                 reference: None,
                 guard: None,
-                unjudged: slot.samples.clone(),
+                unjudged: slot.samples.take(),
             });
         }
         slot.share.as_mut()
