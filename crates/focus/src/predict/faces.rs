@@ -25,8 +25,7 @@ const MAX_CORNERS: usize = 4 + 6;
 /// convex); none where it does not or the face lies outside the frustum.
 pub(super) fn face_rays(sv: &SplitView, lo: DVec3, hi: DVec3, face: usize) -> [Option<DVec3>; FACE_RAYS] {
     let mut rays = [None; FACE_RAYS];
-    let (axis, upper) = (face / 2, face % 2 == 1);
-    let plane = if upper { hi[axis] } else { lo[axis] };
+    let (axis, upper, plane) = face_plane(lo, hi, face);
     let inside = if upper { sv.camera.eye[axis] < plane } else { sv.camera.eye[axis] > plane };
     if !(inside && lo.is_finite() && hi.is_finite()) {
         return rays;
@@ -67,9 +66,9 @@ pub(super) fn face_rays(sv: &SplitView, lo: DVec3, hi: DVec3, face: usize) -> [O
 pub(super) fn lit_faces(lo: DVec3, hi: DVec3, light_point: DVec4) -> ([usize; 6], usize) {
     let mut cosines = [0.0; 6];
     for (face, c) in cosines.iter_mut().enumerate() {
-        let (axis, upper) = (face / 2, face % 2 == 1);
+        let (axis, upper, plane) = face_plane(lo, hi, face);
         let mut centre = (lo + hi) * 0.5;
-        centre[axis] = if upper { hi[axis] } else { lo[axis] };
+        centre[axis] = plane;
         let inward = if upper { -1.0 } else { 1.0 };
         let toward = (light_point.truncate() - centre * light_point.w).normalize_or_zero();
         *c = toward[axis] * inward;
@@ -78,6 +77,13 @@ pub(super) fn lit_faces(lo: DVec3, hi: DVec3, light_point: DVec4) -> ([usize; 6]
     order.sort_by(|&i, &j| cosines[j].total_cmp(&cosines[i]));
     let lit = order.iter().take_while(|&&f| cosines[f] > 0.0).count();
     (order, lit)
+}
+
+/// Face `face` of the box `[lo, hi]`: its axis, whether it is the upper
+/// side, and the coordinate of its plane on that axis.
+fn face_plane(lo: DVec3, hi: DVec3, face: usize) -> (usize, bool, f64) {
+    let (axis, upper) = (face / 2, face % 2 == 1);
+    (axis, upper, if upper { hi[axis] } else { lo[axis] })
 }
 
 /// `p` in the camera's coordinates: right, up and view depth from the eye.
