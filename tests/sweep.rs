@@ -36,13 +36,23 @@ const STABLE_METHODS: [&str; 3] = ["uniform-stable", "lispsm-stable", "tsm-stabl
 /// The four-split methods checked at a smaller image, `SMALL_SIZE`.
 const SMALL_METHODS: [&str; 4] = ["uniform", "lispsm4", "auto4", "auto4-shared"];
 const SMALL_SIZE: (u32, u32) = (320, 180);
+/// The suns over each view slice: low, midway and high, behind, beside and ahead of the
+/// viewer (elevation, azimuth in degrees).
+const SLICE_SUNS: [(f64, f64); 9] =
+    [(10.0, 0.0), (10.0, 90.0), (10.0, 180.0), (35.0, 0.0), (35.0, 90.0), (35.0, 180.0), (65.0, 0.0), (65.0, 90.0), (65.0, 180.0)];
 /// Fewest receiver pixels of a view slice's uniform map for (b) to be judged there.
 const MIN_SLICE_PIXELS: u64 = 300;
 /// Largest p95 and maximum aliasing of a warped map over the uniform one's.
 const WARP_LIMIT: f64 = 1.1;
-/// The same for TSM on view slices (measured: at most 2.19×, under a sun beside the
-/// view).
-const TSM_SLICE_LIMIT: f64 = 2.5;
+/// The same for LiSPSM and PSM on view slices (measured: at most 1.12×, PSM's maximum on
+/// the chessboard's slice 4.5–7.7 m under a 65° sun beside the viewer, where its p95 is
+/// 0.91× the uniform map's and both the guard's and the renderer's own prediction prefer
+/// it; LiSPSM at most 1.07×).
+const SLICE_WARP_LIMIT: f64 = 1.15;
+/// The same for TSM on view slices (measured: at most 1.49×, the chessboard's slice
+/// 4.5–7.7 m under a 65° sun behind the viewer, where the pieces the box stands for
+/// are the receivers that alias).
+const TSM_SLICE_LIMIT: f64 = 1.6;
 /// The same for Auto on view slices, where it takes TSM (measured: at most 1.22×, the
 /// inverted scene's slice 31–63 m under a 10° sun behind the viewer).
 const AUTO_SLICE_LIMIT: f64 = 1.25;
@@ -210,22 +220,24 @@ fn every_builtin_scene_four_split_sweep_at_a_smaller_image_has_right_shadows() {
 /// Slices of each built-in scene's view, as one split of a cascade sees it: the camera's
 /// depth range cut to `[z, z·r]` with `r` an eighth of the view's log depth ratio, at six
 /// depths from near to far (and the chessboard's first visible-depth split, 6.17–7.01),
-/// under the scene's own light and three suns, without and with the scene's receiver
-/// boxes. (a) as above; (b) for LiSPSM, and PSM unless it fell back, judged where the
-/// uniform map covers at least `MIN_SLICE_PIXELS` receiver pixels. The nine camera rays of
-/// the warp guard miss a thin slice of a steep view; there the guard samples rays through
-/// the slice's body, and with no sample at all it keeps no warp. Before, such warps went
-/// unjudged: 70 violations over both, a TSM map at up to 82× the uniform map's aliasing
-/// (LiSPSM 1.4× on the chessboard's slice under its spot light). TSM is held to
+/// under the scene's own light and nine suns (`SLICE_SUNS`), without and with the scene's
+/// receiver boxes. (a) as above; (b) for LiSPSM, and PSM unless it fell back, within
+/// `SLICE_WARP_LIMIT`, judged where the uniform map covers at least `MIN_SLICE_PIXELS`
+/// receiver pixels. The nine camera
+/// rays of the warp guard miss a thin slice of a steep view; there the guard samples rays
+/// through the slice's body, and with no sample at all it keeps no warp. Before, such
+/// warps went unjudged: 70 violations under three suns, a TSM map at up to 82× the uniform
+/// map's aliasing (LiSPSM 1.4× on the chessboard's slice under its spot light). Where the
+/// rays meet the slice's receivers in one image row only, all at one depth, the guard
+/// adds the faces' points at the slice's ends (`crates/focus/src/predict/crossings.rs`);
+/// before, TSM reached 2.85× and Auto's swept map 1.91× here. TSM is held to
 /// `TSM_SLICE_LIMIT` only, and Auto, which takes TSM where the prediction prefers it, to
-/// `AUTO_SLICE_LIMIT`: with samples the nine-sample prediction still misjudges TSM on a
-/// few slices, where the three rays that meet the ground in the slice all meet it at its
-/// near end (`crates/eval/RESULTS.md`, "Slices of the view").
+/// `AUTO_SLICE_LIMIT` (`crates/eval/RESULTS.md`, "Slices of the view").
 #[test]
 fn thin_view_slices_warp_no_worse_than_uniform() {
     let mut guard = RENDERER.lock().unwrap_or_else(|e| e.into_inner());
     let renderer = guard.get_or_insert_with(|| Renderer::from_env().expect("a wgpu adapter (llvmpipe on a fresh machine)"));
-    let (mut judged, mut v, mut tsm_worst, mut auto_worst) = (0, Vec::new(), 0.0f64, 0.0f64);
+    let (mut judged, mut v, mut warp_worst, mut tsm_worst, mut auto_worst) = (0, Vec::new(), 0.0f64, 0.0f64, 0.0f64);
     for boxes in [false, true] {
         let methods: Vec<_> = ["uniform", "psm", "lispsm", "tsm", "auto"]
             .iter()
@@ -235,7 +247,7 @@ fn thin_view_slices_warp_no_worse_than_uniform() {
             let scene = builtin_scene(name).unwrap();
             let cam = scene.camera;
             let own = SweepLight { elevation: f64::NAN, azimuth: f64::NAN, light: scene.light };
-            let suns = [(10.0, 0.0), (35.0, 90.0), (65.0, 180.0)].map(|(el, az)| SweepLight {
+            let suns = SLICE_SUNS.map(|(el, az)| SweepLight {
                 elevation: el,
                 azimuth: az,
                 light: LightSpec::Directional { direction: sweep::sun_direction(&cam, el, az) },
@@ -256,7 +268,8 @@ fn thin_view_slices_warp_no_worse_than_uniform() {
                     let (limit, worst) = match r.method.as_str() {
                         "tsm" => (TSM_SLICE_LIMIT, &mut tsm_worst),
                         "auto" => (AUTO_SLICE_LIMIT, &mut auto_worst),
-                        _ => (WARP_LIMIT, &mut 0.0),
+                        "uniform" => (SLICE_WARP_LIMIT, &mut 0.0),
+                        _ => (SLICE_WARP_LIMIT, &mut warp_worst),
                     };
                     *worst = worst.max(r.p95_ratio).max(r.max_ratio);
                     row_violations(&format!("{name} depths {near:.2}–{far:.2} boxes {boxes} {}", r.label()), r, limit, &mut v);
@@ -264,9 +277,12 @@ fn thin_view_slices_warp_no_worse_than_uniform() {
             }
         }
     }
-    eprintln!("{judged} slice configurations judged, {} violations; TSM at most {tsm_worst:.3}×, Auto {auto_worst:.3}× uniform's", v.len());
+    eprintln!(
+        "{judged} slice configurations judged, {} violations; LiSPSM and PSM at most {warp_worst:.3}×, TSM {tsm_worst:.3}×, Auto {auto_worst:.3}× uniform's",
+        v.len()
+    );
     assert!(v.is_empty(), "{} violations:\n{}", v.len(), v.join("\n"));
-    assert!(judged >= 800, "only {judged} slice configurations have {MIN_SLICE_PIXELS} receiver pixels to judge");
+    assert!(judged >= 2000, "only {judged} slice configurations have {MIN_SLICE_PIXELS} receiver pixels to judge");
 }
 
 /// Cameras the built-in scenes do not have, each with its scene: over the

@@ -34,7 +34,13 @@
 //! shows. Looking up over a city, six of the nine rays left the body's box
 //! through its top, seen from below; on that air the LiSPSM warp looked
 //! better, and on the strip of ground below it rendered 1.59× the uniform
-//! map's aliasing. Where fewer than `MIN_SAMPLES` remain (a thin slice of
+//! map's aliasing. Where the rays meet the split's receivers in one image
+//! row only (a far slice of a view over a ground: the rows below pass under
+//! it, the row above over it), they meet them at one depth, and the faces'
+//! points at the split's near and far planes in the same columns join them
+//! ([`crossings`]): on those three points alone, at the slice's near end,
+//! TSM passed and rendered 1.9× the uniform map's aliasing.
+//! Where fewer than `MIN_SAMPLES` remain (a thin slice of
 //! a steep view, whose body lies between the rays; a board seen from
 //! straight above), rays through the body's own part in the split add
 //! theirs ([`Part`]). Where even those leave fewer (looking up from beyond
@@ -49,6 +55,7 @@
 //! far end where a ray is still inside one there), and a ray that meets
 //! none has no sample.
 
+mod crossings;
 mod faces;
 mod part;
 
@@ -56,6 +63,7 @@ use crate::project::post_perspective;
 use crate::project::{crop_estimate, image_area_scale, light_factor, GRAZING_COS};
 use crate::receiver_rays::{clip_ray, first_box};
 use crate::split_view::SplitView;
+use crossings::{crossing, one_row, FaceHit};
 use faces::{face_rays, lit_faces, FACE_RAYS};
 use glam::{DMat4, DVec3, DVec4};
 use part::Part;
@@ -78,9 +86,13 @@ const MIN_SAMPLES: usize = 3;
 /// through the body's part.
 const RAY_SAMPLES: usize = RAYS + MIN_SAMPLES - 1;
 
+/// Most samples where a face crosses a split plane ([`crossings`]): the
+/// three rays of one image row, at the split's two planes.
+const CROSSINGS: usize = 6;
+
 /// Most samples: those, and room for one face's rays ([`faces`]) where they
 /// leave fewer than `MIN_SAMPLES` the light reaches at more than a graze.
-const MAX_SAMPLES: usize = RAY_SAMPLES + FACE_RAYS;
+const MAX_SAMPLES: usize = RAY_SAMPLES + CROSSINGS + FACE_RAYS;
 
 /// Receiver samples of one split.
 #[derive(Clone)]
@@ -94,6 +106,11 @@ pub(crate) struct Samples {
     light: [f64; MAX_SAMPLES],
     /// Each sample's weight in the typical ratio ([`Predicted::ratio_product`]).
     weight: [f64; MAX_SAMPLES],
+    /// Whether the sample is a face's crossing with a split plane
+    /// ([`crossings`]): it marks an end of the receivers' depth, where a
+    /// ray's sample stands for a ninth of the image, so it counts in the
+    /// maximum only, not in the mean or the typical ratio.
+    end: [bool; MAX_SAMPLES],
     /// The camera's area magnification `a_C` at each sample, on the
     /// receiver's plane.
     camera: [f64; MAX_SAMPLES],
@@ -159,6 +176,7 @@ impl Samples {
             ray: [DVec3::Z; MAX_SAMPLES],
             light: [1.0; MAX_SAMPLES],
             weight: [1.0; MAX_SAMPLES],
+            end: [false; MAX_SAMPLES],
             camera: [0.0; MAX_SAMPLES],
             clip_from_world: post_perspective(sv.camera, &sv.basis, 0.0),
             reference: [1.0; MAX_SAMPLES],
@@ -170,10 +188,20 @@ impl Samples {
         let b = &sv.basis;
         let ty = (0.5 * cam.fovy).tan();
         let tx = ty * cam.aspect;
-        for gy in [-1.0, 0.0, 1.0] {
-            for gx in [-1.0, 0.0, 1.0] {
-                // The ray eye + z·d, z the view depth (d·forward = 1).
-                s.add_ray(sv, b.forward + b.right * (gx * tx) + b.up * (gy * ty), lo, hi);
+        let mut hits = [None; RAYS];
+        for (i, hit) in hits.iter_mut().enumerate() {
+            let (gx, gy) = ((i % 3) as f64 - 1.0, (i / 3) as f64 - 1.0);
+            // The ray eye + z·d, z the view depth (d·forward = 1).
+            let column = b.forward + b.right * (gx * tx);
+            *hit = s.add_ray(sv, column + b.up * (gy * ty), lo, hi).map(|f| FaceHit { row: gy, column, ..f });
+        }
+        if one_row(&hits) {
+            for h in hits.iter().flatten() {
+                for z in [cam.near, cam.far] {
+                    if let Some(p) = crossing(sv, h, z) {
+                        s.add(p, Some(h.normal), true);
+                    }
+                }
             }
         }
         if s.firmly_lit() < MIN_SAMPLES {
@@ -202,19 +230,22 @@ impl Samples {
     /// or where it first meets one of the engine's receiver boxes (the
     /// split's far end, of unknown orientation, where it is inside one
     /// there; nothing where it meets none, or where the face it meets is
-    /// turned away from the light).
-    fn add_ray(&mut self, sv: &SplitView, d: DVec3, lo: DVec3, hi: DVec3) {
+    /// turned away from the light). Where the sample is on a face and
+    /// firmly lit, the face (its row and column left for the caller).
+    fn add_ray(&mut self, sv: &SplitView, d: DVec3, lo: DVec3, hi: DVec3) -> Option<FaceHit> {
         let (cam, receivers) = (sv.camera, sv.settings.receivers.as_slice());
-        let sample = if receivers.is_empty() {
-            clip_ray(cam.eye, d, cam.near, cam.far, lo, hi).map(|exit| (exit.depth, exit.axis))
+        let (z, axis, (lo, hi)) = if receivers.is_empty() {
+            clip_ray(cam.eye, d, cam.near, cam.far, lo, hi).map(|exit| (exit.depth, exit.axis, (lo, hi)))
         } else {
-            first_box(receivers, cam.eye, d, cam.near, cam.far).map(|(_, z, axis)| (z, axis))
-        };
-        if let Some((z, axis)) = sample {
-            // The face the ray leaves or meets along axis k is seen from the
-            // side its ray comes from: its normal toward the camera is −sign(d_k).
-            self.add(cam.eye + d * z, axis.map(|k| DVec3::AXES[k] * -d[k].signum()));
-        }
+            first_box(receivers, cam.eye, d, cam.near, cam.far).map(|(b, z, axis)| (z, axis, (receivers[b].min, receivers[b].max)))
+        }?;
+        // The face the ray leaves or meets along axis k is seen from the
+        // side its ray comes from: its normal toward the camera is −sign(d_k).
+        let normal = axis.map(|k| DVec3::AXES[k] * -d[k].signum());
+        let (p, len) = (cam.eye + d * z, self.len);
+        self.add(p, normal, false);
+        let (k, normal) = (axis?, normal?);
+        (self.len > len && self.weight[len] == 1.0).then_some(FaceHit { row: 0.0, column: d, axis: k, at: p[k], normal, lo, hi })
     }
 
     /// How many samples the light reaches at more than a graze (a cosine of
@@ -239,8 +270,9 @@ impl Samples {
     /// Adds the receiver at `p` with its normal `face` toward the camera,
     /// where there is room and it faces the light (a sample on the far
     /// plane, of unknown orientation, is taken facing it), with what its
-    /// prediction needs of the light and the camera.
-    fn add(&mut self, p: DVec3, face: Option<DVec3>) {
+    /// prediction needs of the light and the camera; `end` marks a face's
+    /// crossing with a split plane.
+    fn add(&mut self, p: DVec3, face: Option<DVec3>, end: bool) {
         let toward = self.toward_light(p);
         let lit = face.is_none_or(|n| n.dot(toward) > 0.0);
         if !(lit && self.len < MAX_SAMPLES) {
@@ -251,7 +283,7 @@ impl Samples {
         let n = face.unwrap_or(ray);
         let c = n.dot(ray).abs();
         (self.pts[k], self.ray[k], self.light[k]) = (p, ray, light_factor(c));
-        self.weight[k] = (c / GRAZING_COS).min(1.0);
+        (self.weight[k], self.end[k]) = ((c / GRAZING_COS).min(1.0), end);
         self.camera[k] = image_area_scale(&self.clip_from_world, p, n);
         self.len += 1;
     }
@@ -264,7 +296,8 @@ impl Samples {
             let e = self.aliasing(reference, i);
             if e.is_finite() && e > 0.0 {
                 (self.pts[k], self.ray[k], self.light[k]) = (self.pts[i], self.ray[i], self.light[i]);
-                (self.weight[k], self.camera[k], self.reference[k]) = (self.weight[i], self.camera[i], e);
+                (self.weight[k], self.end[k]) = (self.weight[i], self.end[i]);
+                (self.camera[k], self.reference[k]) = (self.camera[i], e);
                 k += 1;
             }
         }
@@ -289,11 +322,17 @@ impl Samples {
     /// [`Samples::judge`] over the samples it kept; one that `m` does not
     /// see makes the prediction fail every comparison.
     pub fn predict(&self, m: &DMat4) -> Option<Predicted> {
-        let (mut max, mut sum, mut product, mut weight) = (0.0f64, 0.0, 1.0, 0.0);
+        let (mut max, mut sum, mut count, mut product, mut weight) = (0.0f64, 0.0, 0usize, 1.0, 0.0);
         for i in 0..self.len {
             let e = self.aliasing(m, i);
             max = max.max(e);
-            sum += e;
+            if self.end[i] {
+                // NOTE: 0·e is 0 for a finite e and NaN for a NaN or
+                // infinite one, which the sum then carries (below).
+                sum += 0.0 * e;
+                continue;
+            }
+            (sum, count) = (sum + e, count + 1);
             let (r, w) = (e / self.reference[i], self.weight[i]);
             product *= if w == 1.0 { r } else { r.powf(w) };
             weight += w;
@@ -302,8 +341,9 @@ impl Samples {
         // ignore it but the sum and the product NaN, and NaN compares false:
         // refused. An overflow of the product (nine ratios beyond 1e34
         // each) refuses the map too, and an underflow to 0 accepts only a
-        // map whose typical ratio is far below 1 anyway.
-        (self.len > 0).then(|| Predicted { max, mean: sum / self.len as f64, ratio_product: product, weight })
+        // map whose typical ratio is far below 1 anyway. Crossings alone (no
+        // ray's sample left) give a NaN mean: refused too.
+        (self.len > 0).then(|| Predicted { max, mean: sum / count as f64, ratio_product: product, weight })
     }
 }
 
