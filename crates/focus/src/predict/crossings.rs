@@ -8,6 +8,13 @@
 //! image column run from one split plane to the other, and the worst of a
 //! split's is at one of its ends, so the face's points at those ends, in
 //! the same column, are the samples that give the guard the slice's depth.
+//! They count in the predicted maximum only: a ray's sample stands for a
+//! ninth of the image, a crossing for one row of it, and counted in the
+//! mean and the typical ratio the ground at a split's far end, seen at a
+//! graze, outvoted the near ground that fills the image (the robot war's
+//! practical first split: LiSPSM's warp held back, its maximum doubled).
+//! With receiver boxes a crossing lies on the box the ray met, whether or
+//! not another box stands in front of it there.
 
 use crate::split_view::SplitView;
 use glam::DVec3;

@@ -36,11 +36,11 @@
 //! better, and on the strip of ground below it rendered 1.59× the uniform
 //! map's aliasing. Where the rays meet the split's receivers in one image
 //! row only (a far slice of a view over a ground: the rows below pass under
-//! it, the row above over it), they meet them at one depth, and the faces'
-//! points at the split's near and far planes in the same columns join them
-//! ([`crossings`]): on those three points alone, at the slice's near end,
-//! TSM passed and rendered 1.9× the uniform map's aliasing.
-//! Where fewer than `MIN_SAMPLES` remain (a thin slice of
+//! it, the row above over it), they meet them at about one depth, and the
+//! faces' points at the split's near and far planes in the same columns
+//! join them for the predicted maximum ([`crossings`]): on those three
+//! points alone, at the slice's near end, TSM passed and rendered 1.9× the
+//! uniform map's aliasing. Where fewer than `MIN_SAMPLES` remain (a thin slice of
 //! a steep view, whose body lies between the rays; a board seen from
 //! straight above), rays through the body's own part in the split add
 //! theirs ([`Part`]). Where even those leave fewer (looking up from beyond
@@ -253,13 +253,15 @@ impl Samples {
     /// out of the prediction). A wall lit by 10⁻¹⁷ after rounding is a
     /// sample that all but vanishes from the prediction; it must not decide
     /// whether the part's rays are added, or a sun in the camera's vertical
-    /// plane would fit differently on either side of it.
+    /// plane would fit differently on either side of it. A face's crossing
+    /// with a split plane is not counted: it has no say in the typical
+    /// sample that the part's rays are there to widen.
     ///
     /// NOTE: the weight is 1 exactly where that cosine is at least
     /// `GRAZING_COS` (a cosine below it divides by it to at most the double
     /// below 1).
     fn firmly_lit(&self) -> usize {
-        self.weight[..self.len].iter().filter(|&&w| w == 1.0).count()
+        (0..self.len).filter(|&i| self.weight[i] == 1.0 && !self.end[i]).count()
     }
 
     /// The direction from `p` toward the light (of any length).
