@@ -223,14 +223,14 @@ fn every_builtin_scene_four_split_sweep_at_a_smaller_image_has_right_shadows() {
 /// under the scene's own light and nine suns (`SLICE_SUNS`), without and with the scene's
 /// receiver boxes. (a) as above; (b) for LiSPSM, and PSM unless it fell back, within
 /// `SLICE_WARP_LIMIT`, judged where the uniform map covers at least `MIN_SLICE_PIXELS`
-/// receiver pixels. The nine camera
-/// rays of the warp guard miss a thin slice of a steep view; there the guard samples rays
-/// through the slice's body, and with no sample at all it keeps no warp. Before, such
-/// warps went unjudged: 70 violations under three suns, a TSM map at up to 82× the uniform
-/// map's aliasing (LiSPSM 1.4× on the chessboard's slice under its spot light). Where the
-/// rays meet the slice's receivers in one image row only, all at one depth, the guard
-/// adds the faces' points at the slice's ends (`crates/focus/src/predict/crossings.rs`);
-/// before, TSM reached 2.85× and Auto's swept map 1.91× here. TSM is held to
+/// receiver pixels. The nine camera rays of the warp guard miss a thin slice of a steep
+/// view; there the guard samples rays through the slice's body, and with no sample at all
+/// it keeps no warp. Before, such warps went unjudged: 70 violations under three suns, a
+/// TSM map at up to 82× the uniform map's aliasing (LiSPSM 1.4× on the chessboard's slice
+/// under its spot light). Where the rays meet the slice's receivers in one image row only,
+/// at about one depth, the guard adds the faces' points at the slice's ends
+/// (`crates/focus/src/predict/crossings.rs`); before, TSM reached 2.85× and Auto's swept
+/// map 1.91× here. TSM is held to
 /// `TSM_SLICE_LIMIT` only, and Auto, which takes TSM where the prediction prefers it, to
 /// `AUTO_SLICE_LIMIT` (`crates/eval/RESULTS.md`, "Slices of the view").
 #[test]
