@@ -19,6 +19,17 @@
 use crate::split_view::SplitView;
 use glam::DVec3;
 
+/// A box face a ray's sample lies on: its axis, its coordinate on that
+/// axis, its normal toward the camera and the box it bounds.
+#[derive(Clone, Copy)]
+pub(super) struct Face {
+    pub axis: usize,
+    pub at: f64,
+    pub normal: DVec3,
+    pub lo: DVec3,
+    pub hi: DVec3,
+}
+
 /// A sample on a box face from one of the image's rays, firmly lit.
 #[derive(Clone, Copy)]
 pub(super) struct FaceHit {
@@ -27,13 +38,7 @@ pub(super) struct FaceHit {
     /// The ray's column: `forward + right·x·tan(fovx/2)`; the ray is
     /// `column + up·row·tan(fovy/2)`.
     pub column: DVec3,
-    /// The face: its axis, its coordinate on that axis, its normal toward
-    /// the camera and the box it bounds.
-    pub axis: usize,
-    pub at: f64,
-    pub normal: DVec3,
-    pub lo: DVec3,
-    pub hi: DVec3,
+    pub face: Face,
 }
 
 /// Whether the hits all come from one image row (and there is one at
@@ -51,15 +56,16 @@ pub(super) fn one_row(hits: &[Option<FaceHit>]) -> bool {
 /// view is outside the image, and `up_k = 0` (a face the column runs
 /// along) gives no finite `t`.
 pub(super) fn crossing(sv: &SplitView, hit: &FaceHit, z: f64) -> Option<DVec3> {
-    let (eye, up, k) = (sv.camera.eye, sv.basis.up, hit.axis);
-    let t = ((hit.at - eye[k]) / z - hit.column[k]) / up[k];
+    let (f, eye, up) = (&hit.face, sv.camera.eye, sv.basis.up);
+    let k = f.axis;
+    let t = ((f.at - eye[k]) / z - hit.column[k]) / up[k];
     if !(t.abs() <= (0.5 * sv.camera.fovy).tan()) {
         return None;
     }
     let mut p = eye + (hit.column + up * t) * z;
     // NOTE: on the face exactly; the depth moves by the rounding only.
-    p[k] = hit.at;
-    (0..3).all(|j| j == k || (hit.lo[j] <= p[j] && p[j] <= hit.hi[j])).then_some(p)
+    p[k] = f.at;
+    (0..3).all(|j| j == k || (f.lo[j] <= p[j] && p[j] <= f.hi[j])).then_some(p)
 }
 
 #[cfg(test)]
@@ -87,7 +93,7 @@ mod tests {
         let tx = (0.5 * sv.camera.fovy).tan() * sv.camera.aspect;
         let column = sv.basis.forward + sv.basis.right * (gx * tx);
         let (lo, hi) = (DVec3::new(-600.0, 0.0, -600.0), DVec3::new(600.0, 80.0, 600.0));
-        FaceHit { row: 0.0, column, axis: 1, at: 0.0, normal: DVec3::Y, lo, hi }
+        FaceHit { row: 0.0, column, face: Face { axis: 1, at: 0.0, normal: DVec3::Y, lo, hi } }
     }
 
     #[test]
@@ -128,14 +134,16 @@ mod tests {
         let settings = FocusSettings::default();
         let sv = SplitView { camera: &camera, basis: camera.basis().unwrap(), settings: &settings };
         // The ground ends 100 m ahead of the camera: its far-plane crossing is off it.
-        let short = FaceHit { hi: DVec3::new(600.0, 80.0, -490.0), ..ground_hit(&sv, 0.0) };
+        let ground = ground_hit(&sv, 0.0);
+        let short = FaceHit { face: Face { hi: DVec3::new(600.0, 80.0, -490.0), ..ground.face }, ..ground };
         assert!(crossing(&sv, &short, camera.far).is_none());
         // A wall x = 0 beside a camera looking along it (no image up in x):
         // its centre column never reaches the wall.
         let along = Camera { forward: DVec3::new(0.0, -0.04, 1.0), ..camera };
         let sv = SplitView { camera: &along, basis: along.basis().unwrap(), settings: &settings };
         assert_eq!(sv.basis.up.x, 0.0);
-        let wall = FaceHit { axis: 0, at: 0.0, normal: DVec3::NEG_X, ..ground_hit(&sv, 0.0) };
+        let ground = ground_hit(&sv, 0.0);
+        let wall = FaceHit { face: Face { axis: 0, at: 0.0, normal: DVec3::NEG_X, ..ground.face }, ..ground };
         assert!(crossing(&sv, &wall, along.far).is_none());
     }
 

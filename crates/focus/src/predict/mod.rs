@@ -63,7 +63,7 @@ use crate::project::post_perspective;
 use crate::project::{crop_estimate, image_area_scale, light_factor, GRAZING_COS};
 use crate::receiver_rays::{clip_ray, first_box};
 use crate::split_view::SplitView;
-use crossings::{crossing, one_row, FaceHit};
+use crossings::{crossing, one_row, Face, FaceHit};
 use faces::{face_rays, lit_faces, FACE_RAYS};
 use glam::{DMat4, DVec3, DVec4};
 use part::Part;
@@ -193,13 +193,13 @@ impl Samples {
             let (gx, gy) = ((i % 3) as f64 - 1.0, (i / 3) as f64 - 1.0);
             // The ray eye + z·d, z the view depth (d·forward = 1).
             let column = b.forward + b.right * (gx * tx);
-            *hit = s.add_ray(sv, column + b.up * (gy * ty), lo, hi).map(|f| FaceHit { row: gy, column, ..f });
+            *hit = s.add_ray(sv, column + b.up * (gy * ty), lo, hi).map(|face| FaceHit { row: gy, column, face });
         }
         if one_row(&hits) {
             for h in hits.iter().flatten() {
                 for z in [cam.near, cam.far] {
                     if let Some(p) = crossing(sv, h, z) {
-                        s.add(p, Some(h.normal), true);
+                        s.add(p, Some(h.face.normal), true);
                     }
                 }
             }
@@ -231,8 +231,8 @@ impl Samples {
     /// split's far end, of unknown orientation, where it is inside one
     /// there; nothing where it meets none, or where the face it meets is
     /// turned away from the light). Where the sample is on a face and
-    /// firmly lit, the face (its row and column left for the caller).
-    fn add_ray(&mut self, sv: &SplitView, d: DVec3, lo: DVec3, hi: DVec3) -> Option<FaceHit> {
+    /// firmly lit, that face.
+    fn add_ray(&mut self, sv: &SplitView, d: DVec3, lo: DVec3, hi: DVec3) -> Option<Face> {
         let (cam, receivers) = (sv.camera, sv.settings.receivers.as_slice());
         let (z, axis, (lo, hi)) = if receivers.is_empty() {
             clip_ray(cam.eye, d, cam.near, cam.far, lo, hi).map(|exit| (exit.depth, exit.axis, (lo, hi)))
@@ -245,7 +245,7 @@ impl Samples {
         let (p, len) = (cam.eye + d * z, self.len);
         self.add(p, normal, false);
         let (k, normal) = (axis?, normal?);
-        (self.len > len && self.weight[len] == 1.0).then_some(FaceHit { row: 0.0, column: d, axis: k, at: p[k], normal, lo, hi })
+        (self.len > len && self.weight[len] == 1.0).then_some(Face { axis: k, at: p[k], normal, lo, hi })
     }
 
     /// How many samples the light reaches at more than a graze (a cosine of
