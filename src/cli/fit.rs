@@ -4,8 +4,8 @@ use super::body::{case_median_ns, median, p99};
 use super::case::{case_lines, parse_case, Case};
 use serde_json::{json, Value};
 use shadowfocus_focus::{
-    camera_from_corners, fit, fit_frustum, fit_map, fit_prepared, ClipConvention, DepthHintCoverage, FocusResult, FocusSettings, Footprint,
-    MapSizes, Method, PreparedView, SplitScheme, SplitSettings, TexelBudget,
+    camera_from_corners, fit, fit_frustum, fit_map, fit_prepared, BoxFace, ClipConvention, DepthHintCoverage, FocusResult, FocusSettings,
+    Footprint, MapSizes, Method, PreparedView, SplitScheme, SplitSettings, TexelBudget,
 };
 use shadowfocus_geom::{Body, Camera, Focuser, Frustum};
 use std::hint::black_box;
@@ -63,6 +63,11 @@ pub struct FitOptions {
     /// --depth-clamp fit to their bounds.
     #[arg(long)]
     pub receiver_boxes: bool,
+    /// The face of the scene box that is the ground of an open scene, min-y for a y-up world
+    /// (min-x | max-x | min-y | max-y | min-z | max-z): the predicted aliasing that auto, the
+    /// warp guard and optimal placement use takes its receivers on it, not on the box's walls.
+    #[arg(long, value_parser = parse_ground)]
+    pub ground: Option<BoxFace>,
     /// Texels the maps share by their predicted aliasing, as TEXELS or COUNTxSIDE (COUNT maps of
     /// SIDE² texels, e.g. 4x1024): each map takes its own size, at most --resolution.
     #[arg(long, value_parser = parse_budget)]
@@ -90,6 +95,7 @@ impl Default for FitOptions {
             sdsm: false,
             sdsm_coverage: DepthHintCoverage::Hint,
             receiver_boxes: false,
+            ground: None,
             budget: None,
             budget_sizes: MapSizes::Any,
         }
@@ -115,6 +121,13 @@ pub fn parse_sizes(s: &str) -> Result<MapSizes, String> {
         "any" => Ok(MapSizes::Any),
         _ => Err(format!("unknown map sizes {s:?}: expected pow2 or any")),
     }
+}
+
+/// A face of the scene box, as `--ground` names it.
+pub fn parse_ground(s: &str) -> Result<BoxFace, String> {
+    let names = ["min-x", "max-x", "min-y", "max-y", "min-z", "max-z"];
+    let k = names.iter().position(|n| *n == s).ok_or_else(|| format!("unknown face {s:?}: expected one of {}", names.join(", ")))?;
+    Ok(BoxFace::ALL[k])
 }
 
 pub fn parse_coverage(s: &str) -> Result<DepthHintCoverage, String> {
@@ -182,6 +195,7 @@ impl FitOptions {
             footprint: if self.fit_receivers { Footprint::Receivers { margin_texels: self.receiver_margin } } else { Footprint::Body },
             texel_budget: self.budget.map(|texels| TexelBudget { texels, sizes: self.budget_sizes }),
             visible_depth_coverage: self.sdsm_coverage,
+            ground: self.ground,
             ..FocusSettings::default()
         };
         s.validate().map_err(|e| e.to_string())?;

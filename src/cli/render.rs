@@ -81,7 +81,7 @@ pub fn fit_frame(
     for m in result.maps().iter().filter(|m| m.is_active()) {
         utilisation.push(m.utilisation());
         resolutions.push(m.fit.resolution);
-        predicted.push(predict_aliasing(m, &camera, &bounds, settings.receivers.as_slice()).map(|p| p.max));
+        predicted.push(predict_aliasing(m, &camera, &bounds, settings.receivers.as_slice(), settings.ground).map(|p| p.max));
         h_depth_span.push(depth_span(&m.fit.clip_from_world, m.body().vertices()));
         let n = cull_casters(m, &boxes, &mut idx).map_err(|e| e.to_string())?;
         specs.push(ShadowMapSpec {
@@ -292,6 +292,7 @@ pub fn render_frame_hinted(
         "depth_clamp": settings.depth_clamp,
         "fit_receivers": opts.fit_receivers,
         "receiver_boxes": settings.receivers.as_slice().len(),
+        "ground": settings.ground.map(|f| format!("{f:?}")),
         "visible_depth": sdsm,
         "focusing_us": focusing_us,
         "predicted_aliasing_px": predicted_px,

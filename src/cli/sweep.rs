@@ -28,7 +28,7 @@ use render::{
 };
 use serde_json::{json, Value};
 use shadowfocus_eval::lines::{self, Axes, Panel, Scale, Series};
-use shadowfocus_focus::Method;
+use shadowfocus_focus::{BoxFace, Method};
 use shadowfocus_render as render;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -76,6 +76,9 @@ pub struct SweepOptions {
     /// Pass every fit the boxes of the scene's receivers (see `render --receiver-boxes`).
     #[arg(long)]
     pub receiver_boxes: bool,
+    /// Pass every fit the scene box's ground (see `render --ground`).
+    #[arg(long, value_parser = super::fit::parse_ground)]
+    pub ground: Option<BoxFace>,
     /// Output folder.
     #[arg(long)]
     pub out: PathBuf,
@@ -92,6 +95,8 @@ pub struct SweepMethod {
     pub sdsm: bool,
     /// Pass the scene's receiver boxes (`--receiver-boxes`).
     pub receiver_boxes: bool,
+    /// The scene box's ground (`--ground`).
+    pub ground: Option<BoxFace>,
     /// Stable maps (`-stable`): compared with `uniform-stable`.
     pub stable: bool,
     /// The split scheme (`@SCHEME`, as `--scheme` takes it); `None`: the
@@ -142,7 +147,7 @@ pub fn parse_sweep_method(s: &str) -> Result<SweepMethod, String> {
         k.parse::<usize>().ok().filter(|k| (1..=16).contains(k)).ok_or_else(|| format!("sweep method {s:?}: split count must be 1–16"))?
     };
     let name = if splits == 1 { m.to_string() } else { format!("{m}{splits}") };
-    Ok(SweepMethod { name, method, splits, sdsm: false, receiver_boxes: false, stable: false, scheme: None, shared: false })
+    Ok(SweepMethod { name, method, splits, sdsm: false, receiver_boxes: false, ground: None, stable: false, scheme: None, shared: false })
 }
 
 impl SweepMethod {
@@ -162,6 +167,7 @@ impl SweepMethod {
             budget: self.shared.then_some(u64::from(resolution).pow(2)),
             sdsm: self.sdsm,
             receiver_boxes: self.receiver_boxes,
+            ground: self.ground,
             stable: self.stable,
             scheme: self.scheme.clone(),
             ..FitOptions::default()
@@ -260,7 +266,11 @@ impl SweepPlan {
         }
         let camera = o.camera.map_or(scene.camera, |c| c.resolve(&scene.camera));
         camera.validate().map_err(|e| e.to_string())?;
-        let methods = o.methods.iter().map(|m| SweepMethod { sdsm: o.sdsm, receiver_boxes: o.receiver_boxes, ..m.clone() }).collect();
+        let methods = o
+            .methods
+            .iter()
+            .map(|m| SweepMethod { sdsm: o.sdsm, receiver_boxes: o.receiver_boxes, ground: o.ground, ..m.clone() })
+            .collect();
         let mut plan = SweepPlan::grid(camera, &o.elevations, &o.azimuths, methods, o.resolution, o.size);
         if let Some(l) = o.light {
             let light = l.resolve(&scene.bounds);

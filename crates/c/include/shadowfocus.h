@@ -262,6 +262,11 @@ typedef struct SfAabb {
 } SfAabb;
 
 /*
+ An `SfGround` value as C stores it.
+ */
+typedef int SfGroundInt;
+
+/*
  An `SfMapSizes` value as C stores it.
  */
 typedef int SfMapSizesInt;
@@ -423,6 +428,16 @@ typedef struct SfSettings {
    Number of boxes at `receivers`.
    */
   uint32_t receiver_count;
+  /*
+   An `SfGround` value: the face of the scene box that is the ground
+   of an open scene (a ground and what stands on it, under the sky;
+   `SF_GROUND_MIN_Y` in a y-up world). The predicted aliasing that
+   `SF_METHOD_AUTO`, the warp guard and the optimal split placement use
+   then takes its receivers on that face only, not on the box's walls,
+   where the geometry ends; what a map covers does not change. Receiver
+   boxes take precedence. Default `SF_GROUND_NONE`.
+   */
+  SfGroundInt ground;
   /*
    Texels shared among the active maps by their predicted aliasing
    (sum of size squared at most this), each map at most `resolution`

@@ -5,7 +5,7 @@ use crate::error::Failure;
 use crate::types::*;
 use glam::DVec3;
 use shadowfocus_focus::{
-    ClipConvention, DepthHintCoverage, DepthRange, DepthTest, FitState, FocusSettings, Footprint, LightNear, LispsmSettings,
+    BoxFace, ClipConvention, DepthHintCoverage, DepthRange, DepthTest, FitState, FocusSettings, Footprint, LightNear, LispsmSettings,
     MapOrientation, MapSizes, Method, PointMode, PsmSettings, ReceiverBoxes, ShadowMap, SplitScheme, SplitSettings, TexelBudget,
     TsmSettings, UvOrigin, WarpDirection, WarpHold,
 };
@@ -60,6 +60,11 @@ fn pick<T: Copy>(value: c_int, values: &[T], field: &str, type_name: &str) -> Re
     usize::try_from(value).ok().and_then(|i| values.get(i).copied()).ok_or_else(|| bad_enum(field, value, type_name))
 }
 
+/// The grounds in `SfGround` order: none, then the faces.
+fn grounds() -> [Option<BoxFace>; 7] {
+    std::array::from_fn(|i| i.checked_sub(1).map(|k| BoxFace::ALL[k]))
+}
+
 /// `Some(v)` unless `v` is exactly 0 ("not set"); NaN and negatives are
 /// passed on for the settings check to reject.
 fn optional(v: f64) -> Option<f64> {
@@ -112,6 +117,7 @@ pub unsafe fn settings(s: &SfSettings) -> Result<FocusSettings, Failure> {
         visible_depth: (s.visible_depth_min != 0.0 || s.visible_depth_max != 0.0).then_some([s.visible_depth_min, s.visible_depth_max]),
         visible_depth_coverage: if s.visible_depth_covers_view != 0 { DepthHintCoverage::View } else { DepthHintCoverage::Hint },
         receivers,
+        ground: pick(s.ground, &grounds(), "settings.ground", "SfGround")?,
         texel_budget: match s.texel_budget {
             0 => None,
             texels => Some(TexelBudget {
@@ -221,6 +227,7 @@ pub fn default_settings() -> SfSettings {
         visible_depth_covers_view: (d.visible_depth_coverage == DepthHintCoverage::View).into(),
         receivers: std::ptr::null(),
         receiver_count: 0,
+        ground: d.ground.map_or(0, |f| f.index() as c_int + 1),
         texel_budget: d.texel_budget.map_or(0, |b| b.texels),
         budget_sizes: (d.texel_budget.is_some_and(|b| b.sizes == MapSizes::Any)).into(),
     }

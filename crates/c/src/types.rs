@@ -111,6 +111,27 @@ pub enum SfMapSizes {
     SF_SIZES_ANY = 1,
 }
 
+/// The face of the scene box that is the ground of an open scene
+/// (`SfSettings::ground`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SfGround {
+    /// No ground: every face of the scene box stands for receivers.
+    SF_GROUND_NONE = 0,
+    /// The side of least x.
+    SF_GROUND_MIN_X = 1,
+    /// The side of greatest x.
+    SF_GROUND_MAX_X = 2,
+    /// The side of least y: the ground of a y-up world.
+    SF_GROUND_MIN_Y = 3,
+    /// The side of greatest y.
+    SF_GROUND_MAX_Y = 4,
+    /// The side of least z: the ground of a z-up world.
+    SF_GROUND_MIN_Z = 5,
+    /// The side of greatest z.
+    SF_GROUND_MAX_Z = 6,
+}
+
 /// How a point light is covered.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -135,6 +156,8 @@ pub type SfOrientationInt = c_int;
 pub type SfPointModeInt = c_int;
 /// An `SfMapSizes` value as C stores it.
 pub type SfMapSizesInt = c_int;
+/// An `SfGround` value as C stores it.
+pub type SfGroundInt = c_int;
 
 /// Most parallel splits.
 pub const SF_MAX_SPLITS: u32 = 8;
@@ -353,6 +376,14 @@ pub struct SfSettings {
     pub receivers: *const SfAabb,
     /// Number of boxes at `receivers`.
     pub receiver_count: u32,
+    /// An `SfGround` value: the face of the scene box that is the ground
+    /// of an open scene (a ground and what stands on it, under the sky;
+    /// `SF_GROUND_MIN_Y` in a y-up world). The predicted aliasing that
+    /// `SF_METHOD_AUTO`, the warp guard and the optimal split placement use
+    /// then takes its receivers on that face only, not on the box's walls,
+    /// where the geometry ends; what a map covers does not change. Receiver
+    /// boxes take precedence. Default `SF_GROUND_NONE`.
+    pub ground: SfGroundInt,
     /// Texels shared among the active maps by their predicted aliasing
     /// (sum of size squared at most this), each map at most `resolution`
     /// wide and its size in `SfMap::resolution`; 0: every map is

@@ -4,6 +4,7 @@ use crate::budget::share_texels;
 use crate::cone::{cone_axis, turn_into_cone, CONE_MARGIN};
 use crate::error::FocusError;
 use crate::frame::{perpendicular_hint, tangent_frame};
+use crate::ground::Ground;
 use crate::methods::{fit_body, light_point, Fitted, SplitView};
 use crate::placement::{self, Planes};
 use crate::project::{f32_matrix, texel_size};
@@ -95,7 +96,7 @@ fn fit_held(view: &PreparedView, light: &Light, scene: &Aabb, out: &mut FocusRes
     let optimal = view.settings.splits.scheme == SplitScheme::Optimal && view.splits > 1;
     // The receivers the prediction samples, found once for every use below.
     let rays = (optimal || view.settings.texel_budget.is_some()).then(|| {
-        let model = ReceiverModel::new(&scene, view.settings.receivers.as_slice());
+        let model = ReceiverModel::new(&scene, view.settings.receivers.as_slice(), view.settings.ground);
         ReceiverRays::new(&view.whole, [view.camera.near, view.camera.far], &view.basis, light, model)
     });
     match &rays {
@@ -136,7 +137,9 @@ fn fit_splits(out: &mut FocusResult, view: &PreparedView, placed: &Planes, light
             continue;
         };
         let sub = Camera { near: range[0], far: range[1], ..view.camera };
-        fit_split(out, &SplitView { camera: &sub, basis: view.basis, settings: &view.settings }, frustum, light, scene, i)?;
+        let sv =
+            SplitView { camera: &sub, basis: view.basis, settings: &view.settings, ground: Ground::of_settings(&view.settings, scene) };
+        fit_split(out, &sv, frustum, light, scene, i)?;
     }
     Ok(())
 }
@@ -289,7 +292,10 @@ pub fn fit_map(camera: &Camera, light: &Light, body: &Body, settings: &FocusSett
     if body.is_empty() {
         return Ok(MapFit::empty(settings.method, settings.clip));
     }
-    let sv = SplitView { camera, basis, settings };
+    // NOTE: without a scene box, the body's bounds stand for it: the
+    // ground the split sees is the lowest of the body's visible part.
+    let ground = body.bounds().and_then(|b| Ground::of_settings(settings, &b));
+    let sv = SplitView { camera, basis, settings, ground };
     let f = fit_body(&sv, light, body, &Held::NONE)
         .ok_or(FocusError::NoSingleProjection { reason: "the light lies in the body or sees it over a half-space" })?;
     Ok(map_fit(&sv, light, &f))

@@ -97,6 +97,7 @@ mod cull;
 mod error;
 mod fit;
 mod frame;
+mod ground;
 mod hull2;
 mod light_frame;
 mod methods;
@@ -126,8 +127,8 @@ pub use frame::S0 as ORIENTATION_BLEND_SIN;
 pub use receiver_boxes::{ReceiverBoxes, MAX_RECEIVER_BOXES};
 pub use result::{CubeFace, DepthTest, FocusResult, MapFit, MapState, Notes, ShadowMap, Skipped};
 pub use settings::{
-    DepthHintCoverage, FocusSettings, Footprint, LightNear, LispsmSettings, MapOrientation, MapSizes, Method, PointMode, PsmSettings,
-    SplitScheme, SplitSettings, TexelBudget, TsmSettings, WarpDirection,
+    BoxFace, DepthHintCoverage, FocusSettings, Footprint, LightNear, LispsmSettings, MapOrientation, MapSizes, Method, PointMode,
+    PsmSettings, SplitScheme, SplitSettings, TexelBudget, TsmSettings, WarpDirection,
 };
 pub use splits::{clip_depth, split_depths};
 pub use state::{FitState, WarpHold};

@@ -1,7 +1,10 @@
 //! Camera rays against boxes: where a ray crosses a box (slab clipping),
-//! and where it finds its receiver — where it leaves the scene box, or
-//! where it first meets one of the engine's receiver boxes.
+//! and where it finds its receiver — where it leaves the scene box, where
+//! it meets the scene box's ground, or where it first meets one of the
+//! engine's receiver boxes.
 
+use crate::ground::Ground;
+use crate::settings::BoxFace;
 use glam::DVec3;
 use shadowfocus_geom::Aabb;
 
@@ -47,20 +50,31 @@ pub(crate) fn clip_ray(eye: DVec3, d: DVec3, near: f64, far: f64, lo: DVec3, hi:
 }
 
 /// Where the camera rays find their receivers: where they leave the scene
-/// box, or where they first meet a receiver box.
+/// box, where they meet its ground, or where they first meet a receiver
+/// box.
 #[derive(Clone, Copy)]
 pub(crate) enum ReceiverModel<'a> {
     SceneBox(&'a Aabb),
+    Ground(Ground),
     Boxes(&'a [Aabb]),
 }
 
 impl<'a> ReceiverModel<'a> {
-    /// The receiver boxes where there are any, else the scene box.
-    pub fn new(scene: &'a Aabb, receivers: &'a [Aabb]) -> ReceiverModel<'a> {
-        if receivers.is_empty() {
-            ReceiverModel::SceneBox(scene)
-        } else {
-            ReceiverModel::Boxes(receivers)
+    /// The receiver boxes where there are any, else the scene box's ground
+    /// where `ground` names one, else the scene box.
+    pub fn new(scene: &'a Aabb, receivers: &'a [Aabb], ground: Option<BoxFace>) -> ReceiverModel<'a> {
+        match ground {
+            _ if !receivers.is_empty() => ReceiverModel::Boxes(receivers),
+            Some(face) => ReceiverModel::Ground(Ground::of(face, scene)),
+            None => ReceiverModel::SceneBox(scene),
+        }
+    }
+
+    /// The ground, in that model.
+    pub fn ground(self) -> Option<Ground> {
+        match self {
+            ReceiverModel::Ground(g) => Some(g),
+            _ => None,
         }
     }
 
@@ -73,6 +87,10 @@ impl<'a> ReceiverModel<'a> {
                 let exit = clip_ray(eye, d, near, far, b.min, b.max)?;
                 let axis = exit.axis?;
                 Some(Hit { z: exit.depth, axis, face: face(0, axis) })
+            }
+            ReceiverModel::Ground(g) => {
+                let z = g.hit(eye, d, near, far)?;
+                Some(Hit { z, axis: g.axis, face: face(0, g.axis) })
             }
             ReceiverModel::Boxes(boxes) => {
                 let (k, z, axis) = first_box(boxes, eye, d, near, far)?;

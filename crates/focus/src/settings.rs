@@ -287,6 +287,45 @@ impl Footprint {
     pub const RECEIVERS: Footprint = Footprint::Receivers { margin_texels: Footprint::DEFAULT_MARGIN_TEXELS };
 }
 
+/// A face of an axis-aligned box: its side of least (`Min`) or greatest
+/// (`Max`) coordinate along one axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum BoxFace {
+    /// The side of least x.
+    MinX,
+    /// The side of greatest x.
+    MaxX,
+    /// The side of least y: the ground of a y-up world.
+    MinY,
+    /// The side of greatest y.
+    MaxY,
+    /// The side of least z: the ground of a z-up world.
+    MinZ,
+    /// The side of greatest z.
+    MaxZ,
+}
+
+impl BoxFace {
+    /// The faces, in the order of [`BoxFace::index`].
+    pub const ALL: [BoxFace; 6] = [BoxFace::MinX, BoxFace::MaxX, BoxFace::MinY, BoxFace::MaxY, BoxFace::MinZ, BoxFace::MaxZ];
+
+    /// The axis the face is perpendicular to: 0, 1, 2 for x, y, z.
+    pub const fn axis(self) -> usize {
+        self.index() / 2
+    }
+
+    /// Whether it is the side of greatest coordinate.
+    pub const fn is_max(self) -> bool {
+        self.index() % 2 == 1
+    }
+
+    /// `2 · axis + is_max`.
+    pub const fn index(self) -> usize {
+        self as usize
+    }
+}
+
 /// What the splits cover when a visible depth range is given
 /// ([`FocusSettings::visible_depth`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -396,6 +435,18 @@ pub struct FocusSettings {
     /// casters need not. Empty by default.
     #[cfg_attr(feature = "serde", serde(default))]
     pub receivers: ReceiverBoxes,
+    /// The face of the scene box that is the ground of an open scene (a
+    /// ground and what stands on it, under the sky; `MinY` in a y-up
+    /// world), when the engine knows it: the predicted aliasing (`Auto`'s
+    /// choice, the warp guard, [`SplitScheme::Optimal`],
+    /// [`crate::predict_aliasing`]) then takes its receivers on that face
+    /// only, and the box's other faces, where the scene's geometry ends,
+    /// stand for nothing. It moves what the prediction looks at, never what
+    /// a map covers. None by default: every face of the scene box stands for
+    /// receivers (a room's walls). Receiver boxes, where given, take
+    /// precedence.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub ground: Option<BoxFace>,
     /// Texels shared among the maps by their predicted aliasing, instead of
     /// `resolution²` each ([`TexelBudget`]); each map says its size in
     /// [`crate::MapFit::resolution`]. The sizes follow the view and the
@@ -425,6 +476,7 @@ impl Default for FocusSettings {
             visible_depth: None,
             visible_depth_coverage: DepthHintCoverage::Hint,
             receivers: ReceiverBoxes::NONE,
+            ground: None,
             texel_budget: None,
         }
     }

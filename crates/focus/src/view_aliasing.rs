@@ -28,6 +28,7 @@
 use crate::project::{image_area_scale, light_factor, post_perspective};
 use crate::receiver_rays::{Hit, ReceiverModel};
 use crate::result::{CubeFace, MapState, ShadowMap};
+use crate::settings::BoxFace;
 use crate::MAX_SPLITS;
 use glam::{DMat4, DVec3};
 use shadowfocus_geom::{unit_direction, Aabb, Camera, CameraBasis, Light};
@@ -81,8 +82,9 @@ impl ViewAliasing {
 /// The predicted aliasing of `map` for the view of `camera` (the camera the
 /// maps were fitted for, its full depth range) in the scene box `scene`,
 /// with the receiver boxes `receivers` where the engine knows them (empty:
-/// none known); `None` for a map with nothing to render, or one that
-/// serves none of the receiver samples.
+/// none known), else on the scene box's face `ground` where the scene is
+/// open ([`crate::FocusSettings::ground`]); `None` for a map with nothing
+/// to render, or one that serves none of the receiver samples.
 ///
 /// The receivers are where each of `RECEIVER_RAYS²` camera rays, spread
 /// evenly over the image, first meets a receiver box (the face it enters
@@ -98,13 +100,20 @@ impl ViewAliasing {
 /// face, that serves its direction). Without receiver boxes, casters inside
 /// the scene box, and a terrain above its floor, are receivers nearer than
 /// its faces, which the prediction does not see.
-pub fn predict_aliasing(map: &ShadowMap, camera: &Camera, scene: &Aabb, receivers: &[Aabb]) -> Option<ViewAliasing> {
+pub fn predict_aliasing(
+    map: &ShadowMap,
+    camera: &Camera,
+    scene: &Aabb,
+    receivers: &[Aabb],
+    ground: Option<BoxFace>,
+) -> Option<ViewAliasing> {
     if map.fit.state != MapState::Active {
         return None;
     }
     let basis = camera.basis().ok()?;
     let mut out = None;
-    let rays = ReceiverRays::new(camera, [camera.near, camera.far], &basis, &map.light, ReceiverModel::new(scene, receivers));
+    let model = ReceiverModel::new(scene, receivers, ground);
+    let rays = ReceiverRays::new(camera, [camera.near, camera.far], &basis, &map.light, model);
     rays.each(&map.split_range, |_, s| {
         if let Some(e) = aliasing_in(map, s) {
             let z = s.z;
@@ -236,13 +245,18 @@ impl<'a> ReceiverRays<'a> {
     fn facing(&self, i: usize, gy: f64, h: Hit) -> Option<Sample> {
         let d = self.ray(i, gy);
         let n = DVec3::AXES[h.axis] * -d[h.axis].signum();
-        let p = self.camera.eye + d * h.z;
+        self.sample_at(self.camera.eye + d * h.z, h.z, n)
+    }
+
+    /// The sample at `p` (view depth `z`) on a receiver with the normal `n`
+    /// toward the camera, where it faces the light.
+    fn sample_at(&self, p: DVec3, z: f64, n: DVec3) -> Option<Sample> {
         let l = toward_light(self.light, p);
         (n.dot(l) > 0.0).then(|| {
             // NOTE: `unit_direction` normalises a light direction of any
             // magnitude (down to 2⁻¹⁰⁰⁰), as the fit's own light frame does.
             let ray = unit_direction(l);
-            Sample { p, z: h.z, camera_area: image_area_scale(&self.camera_clip, p, n), ray, light: light_factor(n.dot(ray)) }
+            Sample { p, z, camera_area: image_area_scale(&self.camera_clip, p, n), ray, light: light_factor(n.dot(ray)) }
         })
     }
 
@@ -266,9 +280,20 @@ impl<'a> ReceiverRays<'a> {
             _ if k == m => hi,
             _ => depths[k],
         };
+        let split_of = |z: f64| depths[1..m].partition_point(|&c| c < z);
         for (i, column) in self.hits.iter().enumerate() {
             for s in self.samples[i].iter().flatten().filter(|s| s.z >= lo && s.z <= hi) {
-                f(depths[1..m].partition_point(|&c| c < s.z), s);
+                f(split_of(s.z), s);
+            }
+            // On a ground, the ends of the part the column sees: its edge
+            // (beyond which the rays pass over it) lies between two rows.
+            if let Some(g) = self.model.ground() {
+                let column = self.ray(i, 0.0);
+                for end in g.column_span(self.camera.eye, column, self.up, 1.0, lo, hi).iter().flatten() {
+                    if let Some(s) = self.sample_at(end.p, end.z, g.normal()) {
+                        f(split_of(s.z), &s);
+                    }
+                }
             }
             // Along a column, `1/z` on a plane is affine in the image row:
             // the rows where a face crosses each plane follow from two rays
@@ -374,7 +399,7 @@ mod tests {
         };
         let basis = camera.basis().unwrap();
         let light = Light::directional(DVec3::new(0.3, -1.0, 0.2)).unwrap();
-        let model = ReceiverModel::new(&scene, &[]);
+        let model = ReceiverModel::new(&scene, &[], None);
         let whole = ReceiverRays::new(&camera, [camera.near, camera.far], &basis, &light, model);
         let floor = whole.nearest().unwrap();
         let mut checked = 0;

@@ -113,6 +113,8 @@ fn invalid_inputs_are_errors_with_messages() {
         ("warp direction 2", Box::new(|_, _, _, s| s.lispsm_warp = 2), "not an SfWarpDirection value"),
         ("point mode 9", Box::new(|_, _, _, s| s.point_mode = 9), "not an SfPointMode value"),
         ("orientation -3", Box::new(|_, _, _, s| s.orientation = -3), "not an SfOrientation value"),
+        ("ground 7", Box::new(|_, _, _, s| s.ground = 7), "settings.ground: 7 is not an SfGround value"),
+        ("ground -1", Box::new(|_, _, _, s| s.ground = -1), "settings.ground: -1 is not an SfGround value"),
         ("0 splits", Box::new(|_, _, _, s| s.splits = 0), "invalid setting splits.count"),
         ("9 splits", Box::new(|_, _, _, s| s.splits = 9), "invalid setting splits.count"),
         (

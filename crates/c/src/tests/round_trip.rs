@@ -3,7 +3,7 @@
 use super::common::*;
 use crate::*;
 use shadowfocus_focus::{
-    caster_planes, cull_casters, fit, fit_prepared_with_state, ClipConvention, CubeFace, DepthHintCoverage, DepthRange, DepthTest,
+    caster_planes, cull_casters, fit, fit_prepared_with_state, BoxFace, ClipConvention, CubeFace, DepthHintCoverage, DepthRange, DepthTest,
     FitState, FocusResult, FocusSettings, Footprint, MapSizes, Method, PointMode, PreparedView, ReceiverBoxes, ShadowMap, SplitScheme,
     TexelBudget, UvOrigin,
 };
@@ -173,6 +173,41 @@ fn receiver_boxes_give_the_maps_of_fit() {
             }
         }
     }
+}
+
+/// The scene box's ground through C, each face: the maps of `fit` with the
+/// same ground, bit for bit, with Auto on optimal planes (which predict on
+/// it); `SF_GROUND_MIN_Y` moves them from those without a ground.
+#[test]
+fn a_ground_gives_the_maps_of_fit() {
+    let ctx = Ctx::new();
+    let mut out = FocusResult::new();
+    let mut maps = vec![canary_map(); SF_MAX_MAPS as usize];
+    let sc = rust_scene();
+    let light = lights()[0];
+    let faces = [BoxFace::MinX, BoxFace::MaxX, BoxFace::MinY, BoxFace::MaxY, BoxFace::MinZ, BoxFace::MaxZ];
+    let mut moved = 0;
+    for (k, face) in faces.into_iter().enumerate() {
+        for frame in [0, 120] {
+            let cam = camera(frame);
+            let mut s = settings(SfMethod::SF_METHOD_AUTO, 4);
+            (s.split_scheme, s.ground) = (SfSplitScheme::SF_SPLIT_OPTIMAL as c_int, k as c_int + 1);
+            let mut rs = rust_settings(SfMethod::SF_METHOD_AUTO, 4);
+            (rs.splits.scheme, rs.ground) = (SplitScheme::Optimal, Some(face));
+            fit(&rust_camera(&cam), &rust_light(&light), &sc, &rs, &mut out).unwrap();
+            let (rc, m) = ctx.fit(&cam, &light, &scene(), &s, &mut maps);
+            assert_eq!((rc, m), (0, out.maps().len()), "{face:?}, frame {frame}: {}", ctx.error());
+            for (i, (c, r)) in maps.iter().zip(out.maps()).enumerate() {
+                assert_same(c, r, &format!("{face:?}, frame {frame}, map {i}"));
+            }
+            if face == BoxFace::MinY {
+                let with: Vec<_> = out.maps().iter().map(|m| m.fit.clip_from_world).collect();
+                fit(&rust_camera(&cam), &rust_light(&light), &sc, &FocusSettings { ground: None, ..rs }, &mut out).unwrap();
+                moved += usize::from(out.maps().iter().map(|m| m.fit.clip_from_world).collect::<Vec<_>>() != with);
+            }
+        }
+    }
+    assert!(moved > 0, "the ground changed no fit");
 }
 
 /// A visible depth range through C, covering the hinted slab or the whole

@@ -50,7 +50,7 @@ pub(super) fn auto(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted>
     let mut along_warp = ShareSlot::with_samples(samples.clone());
     for method in CANDIDATES {
         let settings = FocusSettings { method, ..*sv.settings };
-        let view = SplitView { camera: sv.camera, basis: sv.basis, settings: &settings };
+        let view = SplitView { camera: sv.camera, basis: sv.basis, settings: &settings, ground: sv.ground };
         let share = if method == Method::Lispsm { &mut along_warp } else { &mut along_view };
         let Some(f) = fit_body_shared(&view, light, body, &Held::NONE, share) else { continue };
         let predicted = if method == Method::Uniform { samples.judge(&f.m) } else { samples.predict(&f.m) };
@@ -71,7 +71,7 @@ pub(super) fn auto(sv: &SplitView, light: &Light, body: &Body) -> Option<Fitted>
     // mean and the typical sample either.
     if sv.settings.splits.count == 1 {
         let settings = FocusSettings { method: Method::Lispsm, ..*sv.settings };
-        let view = SplitView { camera: sv.camera, basis: sv.basis, settings: &settings };
+        let view = SplitView { camera: sv.camera, basis: sv.basis, settings: &settings, ground: sv.ground };
         if let Some((f, p)) = lispsm_swept(&view, light, body, &mut along_warp, &samples) {
             if best.as_ref().is_some_and(|(_, b)| p.max < b.max && p.no_worse_than(b)) {
                 best = Some((f, p));

@@ -100,7 +100,7 @@ mod tests {
     fn a_ground_crosses_the_far_plane_in_the_column_of_its_ray() {
         let camera = far_slice();
         let settings = FocusSettings::default();
-        let sv = SplitView { camera: &camera, basis: camera.basis().unwrap(), settings: &settings };
+        let sv = SplitView { camera: &camera, basis: camera.basis().unwrap(), settings: &settings, ground: None };
         // The image's side columns reach 770 m to either side at the far
         // plane, beyond the ground's 600 m: off the face.
         for gx in [-1.0, 1.0] {
@@ -132,7 +132,7 @@ mod tests {
     fn a_crossing_off_the_face_or_along_it_is_none() {
         let camera = far_slice();
         let settings = FocusSettings::default();
-        let sv = SplitView { camera: &camera, basis: camera.basis().unwrap(), settings: &settings };
+        let sv = SplitView { camera: &camera, basis: camera.basis().unwrap(), settings: &settings, ground: None };
         // The ground ends 100 m ahead of the camera: its far-plane crossing is off it.
         let ground = ground_hit(&sv, 0.0);
         let short = FaceHit { face: Face { hi: DVec3::new(600.0, 80.0, -490.0), ..ground.face }, ..ground };
@@ -140,7 +140,7 @@ mod tests {
         // A wall x = 0 beside a camera looking along it (no image up in x):
         // its centre column never reaches the wall.
         let along = Camera { forward: DVec3::new(0.0, -0.04, 1.0), ..camera };
-        let sv = SplitView { camera: &along, basis: along.basis().unwrap(), settings: &settings };
+        let sv = SplitView { camera: &along, basis: along.basis().unwrap(), settings: &settings, ground: None };
         assert_eq!(sv.basis.up.x, 0.0);
         let ground = ground_hit(&sv, 0.0);
         let wall = FaceHit { face: Face { axis: 0, at: 0.0, normal: DVec3::NEG_X, ..ground.face }, ..ground };
@@ -151,7 +151,7 @@ mod tests {
     fn only_hits_in_one_row_call_for_crossings() {
         let camera = far_slice();
         let settings = FocusSettings::default();
-        let sv = SplitView { camera: &camera, basis: camera.basis().unwrap(), settings: &settings };
+        let sv = SplitView { camera: &camera, basis: camera.basis().unwrap(), settings: &settings, ground: None };
         let h = |row: f64| Some(FaceHit { row, ..ground_hit(&sv, 0.0) });
         assert!(one_row(&[None, h(0.0), None, h(0.0)]));
         assert!(!one_row(&[h(0.0), h(-1.0)]));

@@ -154,7 +154,7 @@ mod tests {
             far: 800.0,
         };
         let settings = FocusSettings::default();
-        let sv = SplitView { camera: &camera, basis: camera.basis().unwrap(), settings: &settings };
+        let sv = SplitView { camera: &camera, basis: camera.basis().unwrap(), settings: &settings, ground: None };
         let (lo, hi) = (DVec3::new(-350.0, 0.0, -350.0), DVec3::new(350.0, 40.0, 350.0));
         let floor = face_rays(&sv, lo, hi, 2);
         assert!(floor.iter().all(Option::is_some), "{floor:?}");

@@ -59,6 +59,7 @@ mod crossings;
 mod faces;
 mod part;
 
+use crate::ground::Ground;
 use crate::project::post_perspective;
 use crate::project::{crop_estimate, image_area_scale, light_factor, GRAZING_COS};
 use crate::receiver_rays::{clip_ray, first_box};
@@ -123,6 +124,9 @@ pub(crate) struct Samples {
     /// The light as a homogeneous point (`w = 0`: toward a directional
     /// light).
     light_point: DVec4,
+    /// The ground the receivers are on, where the settings name one
+    /// ([`crate::FocusSettings::ground`]).
+    ground: Option<Ground>,
 }
 
 /// A map's predicted aliasing over the samples, up to a factor common to
@@ -182,8 +186,43 @@ impl Samples {
             reference: [1.0; MAX_SAMPLES],
             len: 0,
             light_point,
+            ground: sv.ground,
         };
         let (lo, hi) = bounds(body.vertices());
+        match sv.ground {
+            Some(g) => s.add_ground_columns(sv, g),
+            None => s.add_image_rays(sv, lo, hi),
+        }
+        if s.firmly_lit() < MIN_SAMPLES {
+            for d in Part::of(sv, body).rays(sv).iter().flatten() {
+                if s.len < RAY_SAMPLES {
+                    s.add_ray(sv, *d, lo, hi);
+                }
+            }
+        }
+        if s.firmly_lit() < MIN_SAMPLES && sv.settings.receivers.as_slice().is_empty() {
+            let (faces, lit) = match sv.ground {
+                Some(g) => ([g.face_index(); 6], 1),
+                None => lit_faces(lo, hi, light_point),
+            };
+            let (lo, hi) = sv.ground.map_or((lo, hi), |g| (g.lo, g.hi));
+            for &face in &faces[..lit] {
+                if s.firmly_lit() >= MIN_SAMPLES {
+                    break;
+                }
+                for d in face_rays(sv, lo, hi, face).iter().flatten() {
+                    s.add_ray(sv, *d, lo, hi);
+                }
+            }
+        }
+        s
+    }
+
+    /// The samples of the nine image rays on the box `[lo, hi]` (the
+    /// body's) or the receiver boxes, and where they meet receivers in one
+    /// image row only, the faces' crossings with the split's planes.
+    fn add_image_rays(&mut self, sv: &SplitView, lo: DVec3, hi: DVec3) {
+        let s = self;
         let cam = sv.camera;
         let b = &sv.basis;
         let ty = (0.5 * cam.fovy).tan();
@@ -204,25 +243,32 @@ impl Samples {
                 }
             }
         }
-        if s.firmly_lit() < MIN_SAMPLES {
-            for d in Part::of(sv, body).rays(sv).iter().flatten() {
-                if s.len < RAY_SAMPLES {
-                    s.add_ray(sv, *d, lo, hi);
-                }
+    }
+
+    /// The samples on the ground `g` of the nine image rays, and in each of
+    /// their three columns the two ends of the ground the column sees in the
+    /// split ([`Ground::column_span`]: the ground's edge, the split's planes,
+    /// the image's border), which count in the predicted maximum only, as
+    /// the faces' crossings do: a split's worst ground receiver lies at one
+    /// of them, and the rays miss both wherever the split holds a strip of
+    /// ground a few rows high. Over the light sweep, four splits with the
+    /// near ends left out were within 5 % of the best method in 241 of 252
+    /// configurations instead of 245, 23 instead of 11 higher at p95 than
+    /// without a ground.
+    fn add_ground_columns(&mut self, sv: &SplitView, g: Ground) {
+        let cam = sv.camera;
+        let b = &sv.basis;
+        let ty = (0.5 * cam.fovy).tan();
+        let tx = ty * cam.aspect;
+        for gx in [-1.0, 0.0, 1.0] {
+            let column = b.forward + b.right * (gx * tx);
+            for gy in [-1.0, 0.0, 1.0] {
+                self.add_ray(sv, column + b.up * (gy * ty), g.lo, g.hi);
+            }
+            for end in g.column_span(cam.eye, column, b.up, ty, cam.near, cam.far).iter().flatten() {
+                self.add(end.p, Some(g.normal()), true);
             }
         }
-        if s.firmly_lit() < MIN_SAMPLES && sv.settings.receivers.as_slice().is_empty() {
-            let (faces, lit) = lit_faces(lo, hi, light_point);
-            for &face in &faces[..lit] {
-                if s.firmly_lit() >= MIN_SAMPLES {
-                    break;
-                }
-                for d in face_rays(sv, lo, hi, face).iter().flatten() {
-                    s.add_ray(sv, *d, lo, hi);
-                }
-            }
-        }
-        s
     }
 
     /// The sample on the camera ray `eye + z·d` (`d·forward = 1`), if it
@@ -234,6 +280,12 @@ impl Samples {
     /// firmly lit, that face.
     fn add_ray(&mut self, sv: &SplitView, d: DVec3, lo: DVec3, hi: DVec3) -> Option<Face> {
         let (cam, receivers) = (sv.camera, sv.settings.receivers.as_slice());
+        if let Some(g) = self.ground {
+            // On the ground, or nothing: the sky over its edge.
+            let z = g.hit(cam.eye, d, cam.near, cam.far)?;
+            self.add(cam.eye + d * z, Some(g.normal()), false);
+            return None;
+        }
         let (z, axis, (lo, hi)) = if receivers.is_empty() {
             clip_ray(cam.eye, d, cam.near, cam.far, lo, hi).map(|exit| (exit.depth, exit.axis, (lo, hi)))
         } else {

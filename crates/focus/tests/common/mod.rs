@@ -136,8 +136,12 @@ pub fn settings_strategy() -> impl Strategy<Value = FocusSettings> {
     // which refuse it): enough for every map of a cube at the largest
     // receiver margin the properties ask for.
     let budget = prop_oneof![2 => Just(None), 1 => ((1u64 << 20)..(1u64 << 24), any::<bool>()).prop_map(Some)];
-    (method_strategy(), 1..=4usize, 0..5u8, 0.0..1.0f64, any::<bool>(), any::<bool>(), any::<bool>(), clip_strategy(), budget).prop_map(
-        |(method, count, scheme, lambda, stable, middle, cube, clip, budget)| FocusSettings {
+    // A quarter name a face of the scene box as the ground (any face: the
+    // prediction moves, never what a map covers).
+    let ground = prop_oneof![3 => Just(None), 1 => (0..6usize).prop_map(|k| Some(BoxFace::ALL[k]))];
+    let options = (any::<bool>(), any::<bool>(), any::<bool>(), clip_strategy(), budget, ground);
+    (method_strategy(), 1..=4usize, 0..5u8, 0.0..1.0f64, options).prop_map(
+        |(method, count, scheme, lambda, (stable, middle, cube, clip, budget, ground))| FocusSettings {
             method,
             splits: SplitSettings {
                 count,
@@ -163,6 +167,7 @@ pub fn settings_strategy() -> impl Strategy<Value = FocusSettings> {
             texel_budget: budget
                 .filter(|_| !stable)
                 .map(|(texels, any)| TexelBudget { texels, sizes: if any { MapSizes::Any } else { MapSizes::PowerOfTwo } }),
+            ground,
             ..FocusSettings::default()
         },
     )

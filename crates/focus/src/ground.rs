@@ -1,0 +1,210 @@
+//! The ground of an open scene ([`crate::FocusSettings::ground`]): the one
+//! face of the scene box that stands for receivers in the predicted
+//! aliasing.
+//!
+//! Outdoors, the scene box is where the geometry ends: its floor is the
+//! ground, its walls and top are the sky beyond the last building. Taken as
+//! receivers, those walls misled every prediction that saw them. Over a
+//! city, the box's side wall 630–860 m out, lit at 86°, predicted the two far
+//! splits at 1.2 screen pixels per texel where the renderer measured 0.17
+//! and 0.10 on the ground and the buildings there; the optimal planes evened
+//! the near splits against it. Across a 700 m board, the far wall at the
+//! board's edge predicted PSM 5.6× the aliasing it rendered on the board.
+//!
+//! A camera ray's receiver is then where it meets the ground face (inside
+//! the box's extent on the other two axes, seen from the open side); a ray
+//! over it has none. Along one column of the image the ground a ray meets is
+//! a segment whose ends (the ground's edge, the split's planes, the image's
+//! border) are where a split's worst ground receiver lies, between the rays
+//! wherever the ground is a strip of few rows: [`Ground::column_span`] finds
+//! them in closed form.
+
+use crate::settings::{BoxFace, FocusSettings};
+use glam::DVec3;
+use shadowfocus_geom::Aabb;
+
+/// The ground face of a box: the plane `x_axis = at` and its rectangle
+/// `[lo, hi]` on the other two axes; `up` is `+1` where the open side (the
+/// box's inside) lies toward greater coordinates along `axis`, else `−1`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Ground {
+    pub axis: usize,
+    pub at: f64,
+    pub up: f64,
+    pub lo: DVec3,
+    pub hi: DVec3,
+}
+
+/// A point of the ground seen along a camera ray: the ray's image height
+/// `s` in the column (the ray is `column + s·up`, see
+/// [`Ground::column_span`]), its view depth and the point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct GroundPoint {
+    pub s: f64,
+    pub z: f64,
+    pub p: DVec3,
+}
+
+impl Ground {
+    /// The ground `settings` name on the scene box `scene`, where they name
+    /// one and give no receiver boxes (which take precedence).
+    pub fn of_settings(settings: &FocusSettings, scene: &Aabb) -> Option<Ground> {
+        let face = settings.ground.filter(|_| settings.receivers.as_slice().is_empty())?;
+        Some(Ground::of(face, scene))
+    }
+
+    /// The face `face` of the box `b`.
+    pub fn of(face: BoxFace, b: &Aabb) -> Ground {
+        let axis = face.axis();
+        let (at, up) = if face.is_max() { (b.max[axis], -1.0) } else { (b.min[axis], 1.0) };
+        Ground { axis, at, up, lo: b.min, hi: b.max }
+    }
+
+    /// The face's number in `2 · axis + is_max` order ([`BoxFace::index`]).
+    pub fn face_index(&self) -> usize {
+        2 * self.axis + usize::from(self.up < 0.0)
+    }
+
+    /// The unit normal on the ground's open side.
+    pub fn normal(&self) -> DVec3 {
+        DVec3::AXES[self.axis] * self.up
+    }
+
+    /// The view depth where the ray `eye + z·d` (`d·forward = 1`) meets the
+    /// ground in `[near, far]`, within its rectangle and from the open side;
+    /// `None` where it does not.
+    pub fn hit(&self, eye: DVec3, d: DVec3, near: f64, far: f64) -> Option<f64> {
+        let (height, descent) = ((eye[self.axis] - self.at) * self.up, -d[self.axis] * self.up);
+        if !(height > 0.0 && descent > 0.0) {
+            return None;
+        }
+        let z = height / descent;
+        let p = eye + d * z;
+        let inside = self.others().all(|a| p[a] >= self.lo[a] && p[a] <= self.hi[a]);
+        (z >= near && z <= far && inside).then_some(z)
+    }
+
+    /// The ends of the ground that the rays `column + s·up`, `s ∈ [−s_max,
+    /// s_max]` (the camera's image column at `column`, `up` its image up
+    /// vector at depth 1), meet in `[near, far]`: nearest first, `None`
+    /// where they meet none.
+    ///
+    /// Along the column the ground point is `eye + z(s)·(column + s·up)`
+    /// with `z(s) = h / δ(s)`, `h` the eye's height above the ground and
+    /// `δ(s) = −(column + s·up)·n` the ray's descent (`n` the ground's
+    /// normal). Every condition on the point — depth in `[near, far]`,
+    /// inside the rectangle — multiplied by `δ(s) > 0` is affine in `s`, so
+    /// the rays that meet the ground form one interval of `s`, found by
+    /// intersecting half-lines; its ends give the points.
+    pub fn column_span(&self, eye: DVec3, column: DVec3, up: DVec3, s_max: f64, near: f64, far: f64) -> Option<[GroundPoint; 2]> {
+        let k = self.axis;
+        let h = (eye[k] - self.at) * self.up;
+        if !(h > 0.0) {
+            return None;
+        }
+        // δ(s) = δ0 − s·δ1.
+        let (d0, d1) = (-column[k] * self.up, up[k] * self.up);
+        let mut span = Span { lo: -s_max, hi: s_max };
+        // z ≥ near: h − near·δ(s) ≥ 0; z ≤ far: far·δ(s) − h ≥ 0 (which
+        // makes δ positive).
+        span.keep(h - near * d0, near * d1);
+        span.keep(far * d0 - h, -far * d1);
+        for a in self.others() {
+            // lo_a ≤ eye_a + z·(column_a + s·up_a) ≤ hi_a, times δ(s):
+            // h·(column_a + s·up_a) − (lo_a − eye_a)·δ(s) ≥ 0, and the
+            // same with hi_a turned around.
+            let (lo, hi) = (self.lo[a] - eye[a], self.hi[a] - eye[a]);
+            span.keep(h * column[a] - lo * d0, h * up[a] + lo * d1);
+            span.keep(hi * d0 - h * column[a], -hi * d1 - h * up[a]);
+        }
+        if !(span.lo <= span.hi) {
+            return None;
+        }
+        let point = |s: f64| {
+            let d = column + up * s;
+            let z = h / (-d[k] * self.up);
+            GroundPoint { s, z, p: eye + d * z }
+        };
+        let (a, b) = (point(span.lo), point(span.hi));
+        (a.z.is_finite() && b.z.is_finite()).then(|| if a.z <= b.z { [a, b] } else { [b, a] })
+    }
+
+    /// The two axes of the ground's rectangle.
+    fn others(&self) -> impl Iterator<Item = usize> {
+        [(self.axis + 1) % 3, (self.axis + 2) % 3].into_iter()
+    }
+}
+
+/// An interval of `s`, cut by half-lines `a + b·s ≥ 0`.
+struct Span {
+    lo: f64,
+    hi: f64,
+}
+
+impl Span {
+    fn keep(&mut self, a: f64, b: f64) {
+        if b > 0.0 {
+            self.lo = self.lo.max(-a / b);
+        } else if b < 0.0 {
+            self.hi = self.hi.min(-a / b);
+        } else if !(a >= 0.0) {
+            (self.lo, self.hi) = (1.0, -1.0);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn board() -> Ground {
+        let b = Aabb::new(DVec3::new(-10.0, 0.0, -10.0), DVec3::new(10.0, 5.0, 10.0)).unwrap();
+        Ground::of(BoxFace::MinY, &b)
+    }
+
+    #[test]
+    fn a_ray_meets_the_ground_inside_its_rectangle_from_above() {
+        let g = board();
+        let eye = DVec3::new(0.0, 2.0, -10.0);
+        // Down at slope 1/4: the ground at depth 8.
+        assert_eq!(g.hit(eye, DVec3::new(0.0, -0.25, 1.0), 0.1, 100.0), Some(8.0));
+        // At slope 1/20 it would meet it at depth 40, beyond the board's edge.
+        assert_eq!(g.hit(eye, DVec3::new(0.0, -0.05, 1.0), 0.1, 100.0), None);
+        // Beyond far, or up into the sky: none.
+        assert_eq!(g.hit(eye, DVec3::new(0.0, -0.25, 1.0), 0.1, 7.0), None);
+        assert_eq!(g.hit(eye, DVec3::new(0.0, 0.25, 1.0), 0.1, 100.0), None);
+        // From below the ground (its underside): none.
+        assert_eq!(g.hit(DVec3::new(0.0, -2.0, -10.0), DVec3::new(0.0, 0.25, 1.0), 0.1, 100.0), None);
+        // A ceiling as the ground (a world upside down): seen from below.
+        let b = Aabb::new(DVec3::new(-10.0, 0.0, -10.0), DVec3::new(10.0, 5.0, 10.0)).unwrap();
+        let g = Ground::of(BoxFace::MaxY, &b);
+        assert_eq!(g.normal(), DVec3::NEG_Y);
+        assert_eq!(g.hit(DVec3::new(0.0, 3.0, -10.0), DVec3::new(0.0, 0.25, 1.0), 0.1, 100.0), Some(8.0));
+    }
+
+    #[test]
+    fn a_column_meets_the_ground_between_its_edge_and_the_image_border() {
+        let g = board();
+        let eye = DVec3::new(0.0, 2.0, -10.0);
+        // The column straight ahead, image heights s ∈ [−1, 1]: the ray
+        // (0, s, 1) descends for s < 0; it meets the ground at depth −2/s,
+        // inside the board up to depth 20 (z = 10, its far edge): s = −0.1.
+        let [near, far] = g.column_span(eye, DVec3::Z, DVec3::Y, 1.0, 0.1, 100.0).unwrap();
+        assert_eq!((near.s, near.z), (-1.0, 2.0));
+        assert!((far.s + 0.1).abs() < 1e-15 && (far.z - 20.0).abs() < 1e-12, "{far:?}");
+        assert!((far.p - DVec3::new(0.0, 0.0, 10.0)).length() < 1e-12);
+        // The far plane at 12 cuts it first; the near plane at 4 the other end.
+        let [near, far] = g.column_span(eye, DVec3::Z, DVec3::Y, 1.0, 4.0, 12.0).unwrap();
+        assert!((near.z - 4.0).abs() < 1e-12 && (far.z - 12.0).abs() < 1e-12, "{near:?} {far:?}");
+        // Every sample on a ray meets the ground where the ray does.
+        for t in [0.0, 0.3, 0.7, 1.0] {
+            let s = near.s + (far.s - near.s) * t;
+            let z = g.hit(eye, DVec3::Z + DVec3::Y * s, 0.1, 100.0).unwrap();
+            assert!((z - (-2.0 / s)).abs() < 1e-9);
+        }
+        // A column aimed off the board's side, or an image above the
+        // horizon: none.
+        assert_eq!(g.column_span(eye, DVec3::new(3.0, 0.0, 1.0), DVec3::Y, 0.05, 0.1, 100.0), None);
+        assert_eq!(g.column_span(eye, DVec3::new(0.0, 0.5, 1.0), DVec3::Y, 0.25, 0.1, 100.0), None);
+    }
+}
