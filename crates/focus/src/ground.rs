@@ -126,7 +126,7 @@ impl Ground {
             GroundPoint { s, z, p: eye + d * z }
         };
         let (a, b) = (point(span.lo), point(span.hi));
-        (a.z.is_finite() && b.z.is_finite()).then(|| if a.z <= b.z { [a, b] } else { [b, a] })
+        (a.z.is_finite() && b.z.is_finite()).then_some(if a.z <= b.z { [a, b] } else { [b, a] })
     }
 
     /// The two axes of the ground's rectangle.
