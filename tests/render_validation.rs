@@ -358,11 +358,11 @@ fn optimal_splits_render_right_and_alias_less_than_practical() {
     // scene (the forest's worst pixel is its nearest terrain, in a first
     // split the placement does not lengthen and cannot see to shorten).
     for method in [Method::Lispsm, Method::Auto] {
-        for boxes in [false, true] {
-            let mut lower = 0;
+        for (boxes, ground) in [(false, None), (true, None), (false, Some(BoxFace::MinY))] {
+            let (mut lower, mut p95_lower) = (0, 0);
             for name in shadowfocus_cli::render::BUILTIN_SCENES {
                 let s = scene(name);
-                let optimal = FitOptions { method, splits: 4, resolution: RES / 2, ..FitOptions::default() };
+                let optimal = FitOptions { method, splits: 4, resolution: RES / 2, ground, ..FitOptions::default() };
                 let practical = FitOptions { scheme: Some("practical".into()), ..optimal.clone() };
                 let mut settings = optimal.settings().unwrap();
                 assert_eq!(settings.splits.scheme, SplitScheme::Optimal, "the default");
@@ -371,21 +371,28 @@ fn optimal_splits_render_right_and_alias_less_than_practical() {
                 }
                 let (a, b) = (render(&s, &practical), render_with(&s, &optimal, &settings));
                 eprintln!(
-                    "{name} {method:?} boxes {boxes}: max {:.3} → {:.3}, p95 {:.3} → {:.3}, ×bound {:.2}",
+                    "{name} {method:?} boxes {boxes} ground {ground:?}: max {:.3} → {:.3}, p95 {:.3} → {:.3}, ×bound {:.2}",
                     a.aliasing.max, b.aliasing.max, a.aliasing.p95, b.aliasing.p95, b.aliasing.ratio
                 );
                 assert!(b.coverage.complete, "{name}: a visible pixel outside every map: {:?}", b.coverage);
                 let m = b.mismatch.unwrap();
                 assert!(m.rate_adequate <= ADEQUATE_LIMIT, "{name}: {m:?}");
                 assert!(
-                    b.aliasing.max <= a.aliasing.max && b.aliasing.p95 < a.aliasing.p95,
+                    b.aliasing.max <= a.aliasing.max && b.aliasing.p95 <= a.aliasing.p95,
                     "{name} {method:?}: {:?} → {:?}",
                     a.aliasing,
                     b.aliasing
                 );
                 lower += usize::from(b.aliasing.max < a.aliasing.max);
+                p95_lower += usize::from(b.aliasing.p95 < a.aliasing.p95);
             }
-            assert!(lower + 1 >= shadowfocus_cli::render::BUILTIN_SCENES.len(), "{method:?} boxes {boxes}: max lower in {lower} scenes");
+            let scenes = shadowfocus_cli::render::BUILTIN_SCENES.len();
+            assert!(lower + 1 >= scenes, "{method:?} boxes {boxes} ground {ground:?}: max lower in {lower} scenes");
+            // NOTE: on the ground, Auto's practical planes in the forest
+            // choose the maps of its default planes' first split, which holds
+            // the view's p95 too.
+            let p95_missed = usize::from(ground.is_some() && method == Method::Auto);
+            assert!(p95_lower + p95_missed >= scenes, "{method:?} boxes {boxes} ground {ground:?}: p95 lower in {p95_lower} scenes");
         }
     }
 }
