@@ -207,4 +207,54 @@ mod tests {
         assert_eq!(g.column_span(eye, DVec3::new(3.0, 0.0, 1.0), DVec3::Y, 0.05, 0.1, 100.0), None);
         assert_eq!(g.column_span(eye, DVec3::new(0.0, 0.5, 1.0), DVec3::Y, 0.25, 0.1, 100.0), None);
     }
+
+    /// Over random boxes, faces, eyes and columns, the span holds exactly
+    /// the image heights whose rays `hit` the ground: every ray inside it
+    /// does (but within rounding of its ends), none outside it.
+    #[test]
+    fn the_column_span_is_where_the_rays_hit_the_ground() {
+        let mut state = 0x9E37_79B9_7F4A_7C15u64;
+        let mut rnd = |lo: f64, hi: f64| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            lo + (hi - lo) * ((state >> 11) as f64 / (1u64 << 53) as f64)
+        };
+        let (mut spans, mut rays) = (0, 0);
+        for case in 0..400 {
+            let scale = 10f64.powf(rnd(-2.0, 3.0));
+            let lo = DVec3::new(rnd(-1.0, 0.0), rnd(-1.0, 0.0), rnd(-1.0, 0.0)) * scale;
+            let b = Aabb::new(lo, lo + DVec3::new(rnd(0.1, 2.0), rnd(0.1, 2.0), rnd(0.1, 2.0)) * scale).unwrap();
+            let g = Ground::of(BoxFace::ALL[case % 6], &b);
+            let mut eye = DVec3::new(rnd(-1.5, 1.5), rnd(-1.5, 1.5), rnd(-1.5, 1.5)) * scale;
+            let mut column = DVec3::new(rnd(-1.0, 1.0), rnd(-1.0, 1.0), rnd(-1.0, 1.0));
+            if case % 3 != 0 {
+                // Above the ground, looking down at it.
+                for a in g.others() {
+                    eye[a] = rnd(b.min[a], b.max[a]);
+                }
+                eye[g.axis] = g.at + g.up * rnd(0.01, 1.0) * scale;
+                column[g.axis] = -g.up * rnd(0.05, 1.0);
+            }
+            let up = DVec3::new(rnd(-1.0, 1.0), rnd(-1.0, 1.0), rnd(-1.0, 1.0));
+            let (s_max, near, far) = (rnd(0.1, 1.5), 0.01 * scale, rnd(0.5, 5.0) * scale);
+            let span = g.column_span(eye, column, up, s_max, near, far);
+            spans += usize::from(span.is_some());
+            for k in 0..=200 {
+                let s = -s_max + 2.0 * s_max * k as f64 / 200.0;
+                let hit = g.hit(eye, column + up * s, near, far);
+                let inside = span.is_some_and(|[a, b]| s >= a.s.min(b.s) && s <= a.s.max(b.s));
+                let near_end = span.is_some_and(|[a, b]| (s - a.s).abs().min((s - b.s).abs()) < 1e-9 * s_max);
+                assert!(hit.is_some() == inside || near_end, "case {case}, s {s}: hit {hit:?}, span {span:?}");
+                rays += usize::from(hit.is_some());
+            }
+            if let Some(ends) = span {
+                for e in ends {
+                    let on = (e.p[g.axis] - g.at).abs() <= 1e-9 * scale;
+                    assert!(on && e.z >= near * (1.0 - 1e-9) && e.z <= far * (1.0 + 1e-9), "case {case}: end {e:?}");
+                }
+            }
+        }
+        assert!(spans > 100 && rays > 10_000, "only {spans} spans and {rays} rays on the ground");
+    }
 }
