@@ -292,8 +292,8 @@ pub fn fit_map(camera: &Camera, light: &Light, body: &Body, settings: &FocusSett
     if body.is_empty() {
         return Ok(MapFit::empty(settings.method, settings.clip));
     }
-    // NOTE: without a scene box, the body's bounds stand for it: the
-    // ground the split sees is the lowest of the body's visible part.
+    // NOTE: without a scene box, the body's bounds stand for it: its face
+    // on the ground's side is the ground where the body reaches down to it.
     let ground = body.bounds().and_then(|b| Ground::of_settings(settings, &b));
     let sv = SplitView { camera, basis, settings, ground };
     let f = fit_body(&sv, light, body, &Held::NONE)

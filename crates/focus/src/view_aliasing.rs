@@ -23,7 +23,10 @@
 //! built-in scenes. So the receivers are taken where the camera rays leave
 //! the scene box: its floor seen from above is the ground, its walls the
 //! walls. Casters (and a terrain above the box's floor) stand in front of
-//! those faces; they are the part the prediction misses.
+//! those faces; they are the part the prediction misses. Outdoors the walls
+//! are where the geometry ends: where the engine names the scene's ground
+//! ([`crate::FocusSettings::ground`]) the receivers are on that face alone
+//! (`crate::ground`), with the ends of each ray column's part of it.
 
 use crate::project::{image_area_scale, light_factor, post_perspective};
 use crate::receiver_rays::{Hit, ReceiverModel};

@@ -53,7 +53,12 @@
 //! Where the engine passes receiver boxes ([`crate::FocusSettings::receivers`]),
 //! the samples are where the rays first meet one in the split instead (its
 //! far end where a ray is still inside one there), and a ray that meets
-//! none has no sample.
+//! none has no sample. Where it names the scene's ground
+//! ([`crate::FocusSettings::ground`]), they are where the rays meet that
+//! face of the scene box (none past its edge), with each of the three
+//! image columns' two ends on it in the split for the maximum
+//! ([`Samples::add_ground_columns`]); the fallbacks take their rays through
+//! the ground alone.
 
 mod crossings;
 mod faces;
