@@ -288,13 +288,20 @@ impl<'a> ReceiverRays<'a> {
             for s in self.samples[i].iter().flatten().filter(|s| s.z >= lo && s.z <= hi) {
                 f(split_of(s.z), s);
             }
-            // On a ground, the ends of the part the column sees: its edge
-            // (beyond which the rays pass over it) lies between two rows.
+            // On a ground, the ends of the part the column sees in each
+            // split: its edge (beyond which the rays pass over it) lies
+            // between two rows, and where the split holds a strip of ground
+            // narrower than the rows' spacing, so do its crossings with the
+            // split's planes. A split alone (`predict_aliasing` of its map)
+            // finds the same ends as among the others.
             if let Some(g) = self.model.ground() {
                 let column = self.ray(i, 0.0);
-                for end in g.column_span(self.camera.eye, column, self.up, 1.0, lo, hi).iter().flatten() {
-                    if let Some(s) = self.sample_at(end.p, end.z, g.normal()) {
-                        f(split_of(s.z), &s);
+                for split in 0..m {
+                    let ends = g.column_span(self.camera.eye, column, self.up, 1.0, plane(split), plane(split + 1));
+                    for end in ends.iter().flatten() {
+                        if let Some(s) = self.sample_at(end.p, end.z, g.normal()) {
+                            f(split, &s);
+                        }
                     }
                 }
             }
