@@ -4,7 +4,6 @@ use crate::budget::share_texels;
 use crate::cone::{cone_axis, turn_into_cone, CONE_MARGIN};
 use crate::error::FocusError;
 use crate::frame::{perpendicular_hint, tangent_frame};
-use crate::ground::Ground;
 use crate::methods::{fit_body, light_point, Fitted, SplitView};
 use crate::placement::{self, Planes};
 use crate::project::{f32_matrix, texel_size};
@@ -129,6 +128,7 @@ fn fit_held(view: &PreparedView, light: &Light, scene: &Aabb, out: &mut FocusRes
 fn fit_splits(out: &mut FocusResult, view: &PreparedView, placed: &Planes, light: &Light, scene: &Aabb) -> Result<(), FocusError> {
     let depths = &view.covered(placed);
     out.set_splits(depths, view.splits, view.settings.clip);
+    let ground = ReceiverModel::new(scene, view.settings.receivers.as_slice(), view.settings.ground).ground();
     for i in 0..view.splits {
         let range = [depths[i], depths[i + 1]];
         let mut cut = None;
@@ -137,9 +137,7 @@ fn fit_splits(out: &mut FocusResult, view: &PreparedView, placed: &Planes, light
             continue;
         };
         let sub = Camera { near: range[0], far: range[1], ..view.camera };
-        let sv =
-            SplitView { camera: &sub, basis: view.basis, settings: &view.settings, ground: Ground::of_settings(&view.settings, scene) };
-        fit_split(out, &sv, frustum, light, scene, i)?;
+        fit_split(out, &SplitView { camera: &sub, basis: view.basis, settings: &view.settings, ground }, frustum, light, scene, i)?;
     }
     Ok(())
 }
@@ -294,7 +292,7 @@ pub fn fit_map(camera: &Camera, light: &Light, body: &Body, settings: &FocusSett
     }
     // NOTE: without a scene box, the body's bounds stand for it: its face
     // on the ground's side is the ground where the body reaches down to it.
-    let ground = body.bounds().and_then(|b| Ground::of_settings(settings, &b));
+    let ground = body.bounds().and_then(|b| ReceiverModel::new(&b, settings.receivers.as_slice(), settings.ground).ground());
     let sv = SplitView { camera, basis, settings, ground };
     let f = fit_body(&sv, light, body, &Held::NONE)
         .ok_or(FocusError::NoSingleProjection { reason: "the light lies in the body or sees it over a half-space" })?;

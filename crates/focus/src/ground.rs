@@ -19,7 +19,7 @@
 //! wherever the ground is a strip of few rows: [`Ground::column_span`] finds
 //! them in closed form.
 
-use crate::settings::{BoxFace, FocusSettings};
+use crate::settings::BoxFace;
 use glam::DVec3;
 use shadowfocus_geom::Aabb;
 
@@ -46,13 +46,6 @@ pub(crate) struct GroundPoint {
 }
 
 impl Ground {
-    /// The ground `settings` name on the scene box `scene`, where they name
-    /// one and give no receiver boxes (which take precedence).
-    pub fn of_settings(settings: &FocusSettings, scene: &Aabb) -> Option<Ground> {
-        let face = settings.ground.filter(|_| settings.receivers.as_slice().is_empty())?;
-        Some(Ground::of(face, scene))
-    }
-
     /// The face `face` of the box `b`.
     pub fn of(face: BoxFace, b: &Aabb) -> Ground {
         let axis = face.axis();

@@ -283,10 +283,9 @@ impl<'a> ReceiverRays<'a> {
             _ if k == m => hi,
             _ => depths[k],
         };
-        let split_of = |z: f64| depths[1..m].partition_point(|&c| c < z);
         for (i, column) in self.hits.iter().enumerate() {
             for s in self.samples[i].iter().flatten().filter(|s| s.z >= lo && s.z <= hi) {
-                f(split_of(s.z), s);
+                f(depths[1..m].partition_point(|&c| c < s.z), s);
             }
             // On a ground, the ends of the part the column sees in each
             // split: its edge (beyond which the rays pass over it) lies

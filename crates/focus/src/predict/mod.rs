@@ -129,9 +129,6 @@ pub(crate) struct Samples {
     /// The light as a homogeneous point (`w = 0`: toward a directional
     /// light).
     light_point: DVec4,
-    /// The ground the receivers are on, where the settings name one
-    /// ([`crate::FocusSettings::ground`]).
-    ground: Option<Ground>,
 }
 
 /// A map's predicted aliasing over the samples, up to a factor common to
@@ -191,7 +188,6 @@ impl Samples {
             reference: [1.0; MAX_SAMPLES],
             len: 0,
             light_point,
-            ground: sv.ground,
         };
         let (lo, hi) = bounds(body.vertices());
         match sv.ground {
@@ -285,7 +281,7 @@ impl Samples {
     /// firmly lit, that face.
     fn add_ray(&mut self, sv: &SplitView, d: DVec3, lo: DVec3, hi: DVec3) -> Option<Face> {
         let (cam, receivers) = (sv.camera, sv.settings.receivers.as_slice());
-        if let Some(g) = self.ground {
+        if let Some(g) = sv.ground {
             // On the ground, or nothing: the sky over its edge.
             let z = g.hit(cam.eye, d, cam.near, cam.far)?;
             self.add(cam.eye + d * z, Some(g.normal()), false);
