@@ -19,8 +19,9 @@
 //! Cargo's temporary folder for integration tests (the failure message
 //! names it).
 
+use shadowfocus_cli::cli::render::builtin_ground;
 use shadowfocus_cli::cli::sweep::{self, parse_sweep_method, Sweep, SweepLight, SweepPlan, SweepRow, ADEQUATE_LIMIT, MIN_ADEQUATE_PIXELS};
-use shadowfocus_cli::focus::BoxFace;
+use shadowfocus_cli::focus::{BoxFace, Ground};
 use shadowfocus_cli::render::{builtin_scene, CameraSpec, LightSpec, Renderer};
 use std::path::PathBuf;
 use std::sync::Mutex;
@@ -34,6 +35,8 @@ const AZIMUTHS: [f64; 12] = [0.0, 30.0, 60.0, 90.0, 120.0, 150.0, 180.0, 210.0, 
 const METHODS: [&str; 6] = ["uniform", "psm", "lispsm", "tsm", "auto", "lispsm4"];
 /// The stable maps (PSM has none), each judged against `uniform-stable`.
 const STABLE_METHODS: [&str; 3] = ["uniform-stable", "lispsm-stable", "tsm-stable"];
+/// The single maps checked on the scenes' grounds, at `SMALL_SIZE`.
+const GROUND_METHODS: [&str; 5] = ["uniform", "psm", "lispsm", "tsm", "auto"];
 /// The four-split methods checked at a smaller image, `SMALL_SIZE`.
 const SMALL_METHODS: [&str; 4] = ["uniform", "lispsm4", "auto4", "auto4-shared"];
 const SMALL_SIZE: (u32, u32) = (320, 180);
@@ -71,13 +74,24 @@ fn out_dir(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("sweep").join(name)
 }
 
-/// Sweeps `name` over `elevations` × `azimuths` with `methods` and writes
-/// the results (with `worst` configurations re-rendered) into `folder`.
-fn run(name: &str, folder: &str, elevations: &[f64], azimuths: &[f64], methods: &[&str], size: (u32, u32), worst: usize) -> Sweep {
+/// Sweeps `name` over `grid` (elevations × azimuths) with `methods` and
+/// writes the results (with `worst` configurations re-rendered) into
+/// `folder`.
+/// Every fit is told `ground`, where one is given.
+fn run(
+    name: &str,
+    folder: &str,
+    grid: (&[f64], &[f64]),
+    methods: &[&str],
+    size: (u32, u32),
+    worst: usize,
+    ground: Option<Ground>,
+) -> Sweep {
     let mut guard = RENDERER.lock().unwrap_or_else(|e| e.into_inner());
     let renderer = guard.get_or_insert_with(|| Renderer::from_env().expect("a wgpu adapter (llvmpipe on a fresh machine)"));
     let scene = builtin_scene(name).unwrap();
-    let methods = methods.iter().map(|m| parse_sweep_method(m).unwrap()).collect();
+    let (elevations, azimuths) = grid;
+    let methods = methods.iter().map(|m| sweep::SweepMethod { ground, ..parse_sweep_method(m).unwrap() }).collect();
     let plan = SweepPlan::grid(scene.camera, elevations, azimuths, methods, RES, size);
     let result = sweep::sweep(renderer, &scene, &plan, |_, _, _| {}).unwrap();
     let _ = std::fs::remove_dir_all(out_dir(folder));
@@ -142,8 +156,13 @@ fn check(name: &str) {
 }
 
 fn check_methods(name: &str, folder: &str, methods: &[&str], size: (u32, u32)) {
+    check_on(name, folder, methods, size, None);
+}
+
+/// (a) and (b) over the default grid, every fit told `ground`.
+fn check_on(name: &str, folder: &str, methods: &[&str], size: (u32, u32), ground: Option<Ground>) {
     let t = std::time::Instant::now();
-    let s = run(name, folder, &ELEVATIONS, &AZIMUTHS, methods, size, 8);
+    let s = run(name, folder, (&ELEVATIONS, &AZIMUTHS), methods, size, 8, ground);
     assert_eq!(s.rows.len(), ELEVATIONS.len() * AZIMUTHS.len() * methods.len());
     for r in &s.rows {
         assert!(r.aliasing.pixels > 0 && r.aliasing.p95.is_finite(), "{name} {}: no aliasing samples", r.label());
@@ -218,6 +237,19 @@ fn every_builtin_scene_four_split_sweep_at_a_smaller_image_has_right_shadows() {
     }
 }
 
+/// Single maps told the scene's ground (a slab's top where the scene box
+/// reaches below it): (a) and (b) as above, at the smaller image. The
+/// prediction then sees no walls; before the renderer's chessboards were
+/// built without T-junctions, the huge board's far side face showed through
+/// at one pixel of its far edge and set PSM's maximum on the ground at 1.89×
+/// the uniform map's.
+#[test]
+fn single_maps_on_the_ground_warp_no_worse_than_uniform() {
+    for scene in ["huge-chessboard", "thin-casters", "robot-war"] {
+        check_on(scene, &format!("{scene}-ground"), &GROUND_METHODS, SMALL_SIZE, Some(builtin_ground(scene)));
+    }
+}
+
 /// Slices of each built-in scene's view, as one split of a cascade sees it: the camera's
 /// depth range cut to `[z, z·r]` with `r` an eighth of the view's log depth ratio, at six
 /// depths from near to far (and the chessboard's first visible-depth split, 6.17–7.01),
@@ -241,7 +273,7 @@ fn thin_view_slices_warp_no_worse_than_uniform() {
     let (mut judged, mut v, mut warp_worst, mut tsm_worst, mut auto_worst) = (0, Vec::new(), 0.0f64, 0.0f64, 0.0f64);
     // The receivers the prediction takes: the scene box's faces, the
     // scene's receiver boxes, the box's ground.
-    for (boxes, ground) in [(false, None), (true, None), (false, Some(BoxFace::MinY))] {
+    for (boxes, ground) in [(false, None), (true, None), (false, Some(BoxFace::MinY.into()))] {
         let methods: Vec<_> = ["uniform", "psm", "lispsm", "tsm", "auto"]
             .iter()
             .map(|m| sweep::SweepMethod { receiver_boxes: boxes, ground, ..parse_sweep_method(m).unwrap() })
@@ -330,7 +362,7 @@ fn unusual_cameras_keep_right_shadows_and_warps_near_the_uniform_map() {
         let up = if forward.cross(glam::DVec3::Y).length() > 0.0 { glam::DVec3::Y } else { glam::DVec3::NEG_Z };
         let camera = CameraSpec { eye, forward, up, fovy: fovy.to_radians(), near, far };
         // Each camera with its hints, and with the scene box's ground instead.
-        for ground in [None, Some(BoxFace::MinY)] {
+        for ground in [None, Some(BoxFace::MinY.into())] {
             let methods: Vec<_> = ["uniform", "psm", "lispsm", "tsm", "auto"]
                 .iter()
                 .map(|m| sweep::SweepMethod {
@@ -359,7 +391,7 @@ fn unusual_cameras_keep_right_shadows_and_warps_near_the_uniform_map() {
 
 #[test]
 fn sweep_writes_its_table_plots_and_contact_sheet() {
-    let s = run("forest", "forest", &[35.0], &[0.0, 180.0], &["uniform", "lispsm"], (96, 54), 2);
+    let s = run("forest", "forest", (&[35.0], &[0.0, 180.0]), &["uniform", "lispsm"], (96, 54), 2, None);
     let dir = out_dir("forest");
     let csv = std::fs::read_to_string(dir.join("sweep.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 4, "a header and one row per configuration");

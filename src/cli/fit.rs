@@ -5,7 +5,7 @@ use super::case::{case_lines, parse_case, Case};
 use serde_json::{json, Value};
 use shadowfocus_focus::{
     camera_from_corners, fit, fit_frustum, fit_map, fit_prepared, BoxFace, ClipConvention, DepthHintCoverage, FocusResult, FocusSettings,
-    Footprint, MapSizes, Method, PreparedView, SplitScheme, SplitSettings, TexelBudget,
+    Footprint, Ground, MapSizes, Method, PreparedView, SplitScheme, SplitSettings, TexelBudget,
 };
 use shadowfocus_geom::{Body, Camera, Focuser, Frustum};
 use std::hint::black_box;
@@ -63,11 +63,13 @@ pub struct FitOptions {
     /// --depth-clamp fit to their bounds.
     #[arg(long)]
     pub receiver_boxes: bool,
-    /// The face of the scene box that is the ground of an open scene, min-y for a y-up world
-    /// (min-x | max-x | min-y | max-y | min-z | max-z): the predicted aliasing that auto, the
-    /// warp guard and optimal placement use takes its receivers on it, not on the box's walls.
+    /// The ground of an open scene, FACE[@LEVEL]: the face of the scene box it is parallel to,
+    /// min-y for a y-up world (min-x | max-x | min-y | max-y | min-z | max-z), and where it lies
+    /// above that face, its level on the face's axis (min-y@0: a world on a slab whose top is
+    /// y = 0). The predicted aliasing that auto, the warp guard and optimal placement use takes
+    /// its receivers on it, not on the box's walls.
     #[arg(long, value_parser = parse_ground)]
-    pub ground: Option<BoxFace>,
+    pub ground: Option<Ground>,
     /// Texels the maps share by their predicted aliasing, as TEXELS or COUNTxSIDE (COUNT maps of
     /// SIDE² texels, e.g. 4x1024): each map takes its own size, at most --resolution.
     #[arg(long, value_parser = parse_budget)]
@@ -123,11 +125,21 @@ pub fn parse_sizes(s: &str) -> Result<MapSizes, String> {
     }
 }
 
-/// A face of the scene box, as `--ground` names it.
-pub fn parse_ground(s: &str) -> Result<BoxFace, String> {
+/// A ground as `--ground` names it: FACE or FACE@LEVEL.
+pub fn parse_ground(s: &str) -> Result<Ground, String> {
     let names = ["min-x", "max-x", "min-y", "max-y", "min-z", "max-z"];
-    let k = names.iter().position(|n| *n == s).ok_or_else(|| format!("unknown face {s:?}: expected one of {}", names.join(", ")))?;
-    Ok(BoxFace::ALL[k])
+    let (face, level) = match s.split_once('@') {
+        Some((face, level)) => (face, Some(level)),
+        None => (s, None),
+    };
+    let k = names.iter().position(|n| *n == face).ok_or_else(|| format!("unknown face {face:?}: expected one of {}", names.join(", ")))?;
+    let level = match level {
+        Some(l) => {
+            Some(l.parse::<f64>().ok().filter(|l| l.is_finite()).ok_or_else(|| format!("ground level {l:?} is not a finite number"))?)
+        }
+        None => None,
+    };
+    Ok(Ground { face: BoxFace::ALL[k], level })
 }
 
 pub fn parse_coverage(s: &str) -> Result<DepthHintCoverage, String> {
@@ -426,6 +438,20 @@ mod tests {
         let err = FitOptions { sdsm_coverage: view, ..FitOptions::default() }.settings().unwrap_err();
         assert!(err.contains("use it with --sdsm"), "{err}");
         assert!(parse_coverage("all").unwrap_err().contains("hint or view"));
+    }
+
+    /// `--ground` takes a face alone or at a level; an unknown face and a
+    /// level that is not a finite number are refused, naming what is wrong.
+    #[test]
+    fn ground_takes_a_face_and_a_level() {
+        assert_eq!(parse_ground("min-y"), Ok(Ground::face(BoxFace::MinY)));
+        assert_eq!(parse_ground("max-z@-2.5"), Ok(Ground::at(BoxFace::MaxZ, -2.5)));
+        let opts = FitOptions { ground: Some(parse_ground("min-y@0").unwrap()), ..FitOptions::default() };
+        assert_eq!(opts.settings().unwrap().ground, Some(Ground::at(BoxFace::MinY, 0.0)));
+        assert!(parse_ground("down").unwrap_err().contains("expected one of min-x"));
+        for bad in ["min-y@", "min-y@zero", "min-y@inf", "min-y@NaN"] {
+            assert!(parse_ground(bad).unwrap_err().contains("is not a finite number"), "{bad}");
+        }
     }
 
     /// `--bench` times every readable case whole and, for each camera a view

@@ -5,8 +5,8 @@ use super::overrides::{Frame, Overrides};
 use render::{contact_sheet, write_outputs, Image, LightSpec, RenderRequest, Renderer, Scene, ShadowMapSpec};
 use serde_json::{json, Value};
 use shadowfocus_focus::{
-    cull_casters, fit, fit_prepared_with_state, predict_aliasing, DepthRange, DepthTest, FitState, FocusResult, FocusSettings, Method,
-    PreparedView, ReceiverBoxes,
+    cull_casters, fit, fit_prepared_with_state, predict_aliasing, BoxFace, DepthRange, DepthTest, FitState, FocusResult, FocusSettings,
+    Ground, Method, PreparedView, ReceiverBoxes,
 };
 use shadowfocus_geom::{Aabb, Camera, Frustum, Light};
 use shadowfocus_render as render;
@@ -292,7 +292,7 @@ pub fn render_frame_hinted(
         "depth_clamp": settings.depth_clamp,
         "fit_receivers": opts.fit_receivers,
         "receiver_boxes": settings.receivers.as_slice().len(),
-        "ground": settings.ground.map(|f| format!("{f:?}")),
+        "ground": settings.ground.map(|g| json!({ "face": format!("{:?}", g.face), "level": g.level })),
         "visible_depth": sdsm,
         "focusing_us": focusing_us,
         "predicted_aliasing_px": predicted_px,
@@ -316,6 +316,17 @@ pub fn scene_settings(scene: &Scene, opts: &FitOptions) -> Result<FocusSettings,
 pub fn receiver_boxes(scene: &Scene) -> Result<ReceiverBoxes, String> {
     let boxes: Vec<Aabb> = scene.objects.iter().filter(|o| o.receiver).map(|o| Aabb { min: o.aabb.min, max: o.aabb.max }).collect();
     ReceiverBoxes::new(&boxes).map_err(|e| e.to_string())
+}
+
+/// A built-in scene's ground as its engine would name it: the top of the
+/// slab the world stands on (y = 0) where the scene box reaches below it
+/// (the huge chessboard's 6 m board, thin casters' 2 m ground block), else
+/// the box's floor (`--ground min-y@0` and `--ground min-y`).
+pub fn builtin_ground(scene: &str) -> Ground {
+    match scene {
+        "huge-chessboard" | "thin-casters" => Ground::at(BoxFace::MinY, 0.0),
+        _ => BoxFace::MinY.into(),
+    }
 }
 
 pub fn parse_size(s: &str) -> Result<(u32, u32), String> {

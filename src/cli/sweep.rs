@@ -28,7 +28,7 @@ use render::{
 };
 use serde_json::{json, Value};
 use shadowfocus_eval::lines::{self, Axes, Panel, Scale, Series};
-use shadowfocus_focus::{BoxFace, Method};
+use shadowfocus_focus::{Ground, Method};
 use shadowfocus_render as render;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -78,7 +78,7 @@ pub struct SweepOptions {
     pub receiver_boxes: bool,
     /// Pass every fit the scene box's ground (see `render --ground`).
     #[arg(long, value_parser = super::fit::parse_ground)]
-    pub ground: Option<BoxFace>,
+    pub ground: Option<Ground>,
     /// Output folder.
     #[arg(long)]
     pub out: PathBuf,
@@ -96,7 +96,7 @@ pub struct SweepMethod {
     /// Pass the scene's receiver boxes (`--receiver-boxes`).
     pub receiver_boxes: bool,
     /// The scene box's ground (`--ground`).
-    pub ground: Option<BoxFace>,
+    pub ground: Option<Ground>,
     /// Stable maps (`-stable`): compared with `uniform-stable`.
     pub stable: bool,
     /// The split scheme (`@SCHEME`, as `--scheme` takes it); `None`: the

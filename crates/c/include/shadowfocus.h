@@ -439,6 +439,16 @@ typedef struct SfSettings {
    */
   SfGroundInt ground;
   /*
+   Nonzero: the ground lies at `ground_level` on its face's axis, above
+   the face (the top of a slab the world stands on, a terrain's mean
+   height); it must lie in the scene box. Default 0: on the face.
+   */
+  int ground_at_level;
+  /*
+   See `ground_at_level`.
+   */
+  double ground_level;
+  /*
    Texels shared among the active maps by their predicted aliasing
    (sum of size squared at most this), each map at most `resolution`
    wide and its size in `SfMap::resolution`; 0: every map is

@@ -5,9 +5,9 @@ use crate::error::Failure;
 use crate::types::*;
 use glam::DVec3;
 use shadowfocus_focus::{
-    BoxFace, ClipConvention, DepthHintCoverage, DepthRange, DepthTest, FitState, FocusSettings, Footprint, LightNear, LispsmSettings,
-    MapOrientation, MapSizes, Method, PointMode, PsmSettings, ReceiverBoxes, ShadowMap, SplitScheme, SplitSettings, TexelBudget,
-    TsmSettings, UvOrigin, WarpDirection, WarpHold,
+    BoxFace, ClipConvention, DepthHintCoverage, DepthRange, DepthTest, FitState, FocusSettings, Footprint, Ground, LightNear,
+    LispsmSettings, MapOrientation, MapSizes, Method, PointMode, PsmSettings, ReceiverBoxes, ShadowMap, SplitScheme, SplitSettings,
+    TexelBudget, TsmSettings, UvOrigin, WarpDirection, WarpHold,
 };
 use shadowfocus_geom::{Aabb, Camera, Frustum, Light};
 use std::ffi::c_int;
@@ -65,6 +65,16 @@ fn grounds() -> [Option<BoxFace>; 7] {
     std::array::from_fn(|i| i.checked_sub(1).map(|k| BoxFace::ALL[k]))
 }
 
+/// The ground: its face (`SfGround`) and, where `ground_at_level` is set,
+/// its level.
+fn ground(s: &SfSettings) -> Result<Option<Ground>, Failure> {
+    let face = pick(s.ground, &grounds(), "settings.ground", "SfGround")?;
+    match (face, s.ground_at_level != 0) {
+        (None, true) => Err(Failure::invalid("settings.ground_at_level: a ground level needs a ground face (settings.ground)")),
+        (face, at_level) => Ok(face.map(|face| Ground { face, level: at_level.then_some(s.ground_level) })),
+    }
+}
+
 /// `Some(v)` unless `v` is exactly 0 ("not set"); NaN and negatives are
 /// passed on for the settings check to reject.
 fn optional(v: f64) -> Option<f64> {
@@ -117,7 +127,7 @@ pub unsafe fn settings(s: &SfSettings) -> Result<FocusSettings, Failure> {
         visible_depth: (s.visible_depth_min != 0.0 || s.visible_depth_max != 0.0).then_some([s.visible_depth_min, s.visible_depth_max]),
         visible_depth_coverage: if s.visible_depth_covers_view != 0 { DepthHintCoverage::View } else { DepthHintCoverage::Hint },
         receivers,
-        ground: pick(s.ground, &grounds(), "settings.ground", "SfGround")?,
+        ground: ground(s)?,
         texel_budget: match s.texel_budget {
             0 => None,
             texels => Some(TexelBudget {
@@ -227,7 +237,9 @@ pub fn default_settings() -> SfSettings {
         visible_depth_covers_view: (d.visible_depth_coverage == DepthHintCoverage::View).into(),
         receivers: std::ptr::null(),
         receiver_count: 0,
-        ground: d.ground.map_or(0, |f| f.index() as c_int + 1),
+        ground: d.ground.map_or(0, |g| g.face.index() as c_int + 1),
+        ground_at_level: d.ground.is_some_and(|g| g.level.is_some()).into(),
+        ground_level: d.ground.and_then(|g| g.level).unwrap_or(0.0),
         texel_budget: d.texel_budget.map_or(0, |b| b.texels),
         budget_sizes: (d.texel_budget.is_some_and(|b| b.sizes == MapSizes::Any)).into(),
     }

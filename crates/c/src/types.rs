@@ -384,6 +384,12 @@ pub struct SfSettings {
     /// where the geometry ends; what a map covers does not change. Receiver
     /// boxes take precedence. Default `SF_GROUND_NONE`.
     pub ground: SfGroundInt,
+    /// Nonzero: the ground lies at `ground_level` on its face's axis, above
+    /// the face (the top of a slab the world stands on, a terrain's mean
+    /// height); it must lie in the scene box. Default 0: on the face.
+    pub ground_at_level: c_int,
+    /// See `ground_at_level`.
+    pub ground_level: f64,
     /// Texels shared among the active maps by their predicted aliasing
     /// (sum of size squared at most this), each map at most `resolution`
     /// wide and its size in `SfMap::resolution`; 0: every map is

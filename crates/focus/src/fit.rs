@@ -10,7 +10,7 @@ use crate::project::{f32_matrix, texel_size};
 use crate::receiver_rays::ReceiverModel;
 use crate::receivers::fit_receivers;
 use crate::result::{CubeFace, FocusResult, MapFit, MapState, Notes, ShadowMap, Skipped};
-use crate::settings::{FocusSettings, Footprint, Method, PointMode, SplitScheme};
+use crate::settings::{FocusSettings, Footprint, Ground, Method, PointMode, SplitScheme};
 use crate::state::{FitState, Held};
 use crate::view::PreparedView;
 use crate::view_aliasing::{receiver_aliasing, ReceiverRays};
@@ -92,6 +92,7 @@ fn fit_held(view: &PreparedView, light: &Light, scene: &Aabb, out: &mut FocusRes
     }
     let scene = Aabb::new(scene.min, scene.max)?;
     light.validate()?;
+    check_ground(view.settings.ground, &scene)?;
     let optimal = view.settings.splits.scheme == SplitScheme::Optimal && view.splits > 1;
     // The receivers the prediction samples, found once for every use below.
     let rays = (optimal || view.settings.texel_budget.is_some()).then(|| {
@@ -121,6 +122,17 @@ fn fit_held(view: &PreparedView, light: &Light, scene: &Aabb, out: &mut FocusRes
     }
     plan(out, &view.settings, light, &scene);
     Ok(())
+}
+
+/// A ground level must lie in the scene box: one outside it is a ground
+/// the scene does not have (often an axis mixed up).
+fn check_ground(ground: Option<Ground>, scene: &Aabb) -> Result<(), FocusError> {
+    match ground {
+        Some(Ground { face, level: Some(l) }) if !(l >= scene.min[face.axis()] && l <= scene.max[face.axis()]) => {
+            Err(FocusError::InvalidSettings { what: "ground.level", reason: "must lie in the scene box along the ground face's axis" })
+        }
+        _ => Ok(()),
+    }
 }
 
 /// Every split's maps for the planes `depths`: the view's own frusta where

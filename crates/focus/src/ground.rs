@@ -1,6 +1,6 @@
 //! The ground of an open scene ([`crate::FocusSettings::ground`]): the one
-//! face of the scene box that stands for receivers in the predicted
-//! aliasing.
+//! face of the scene box, or the plane parallel to it at a level inside the
+//! box, that stands for receivers in the predicted aliasing.
 //!
 //! Outdoors, the scene box is where the geometry ends: its floor is the
 //! ground, its walls and top are the sky beyond the last building. Taken as
@@ -11,23 +11,29 @@
 //! the near splits against it. Across a 700 m board, the far wall at the
 //! board's edge predicted PSM 5.6× the aliasing it rendered on the board.
 //!
-//! A camera ray's receiver is then where it meets the ground face (inside
-//! the box's extent on the other two axes, seen from the open side); a ray
-//! over it has none. Along one column of the image the ground a ray meets is
-//! a segment whose ends (the ground's edge, the split's planes, the image's
-//! border) are where a split's worst ground receiver lies, between the rays
-//! wherever the ground is a strip of few rows: [`Ground::column_span`] finds
-//! them in closed form.
+//! A camera ray's receiver is then where it meets the ground (inside the
+//! box's extent on the other two axes, seen from the open side); a ray over
+//! it has none. Where the world stands on a slab (a board 6 m thick, a
+//! ground block 2 m deep) the box's floor lies below the receivers, and for
+//! an eye 1.7 m up a floor 2 m lower more than doubles every receiver's
+//! distance below it: the level puts the ground where the slab's top is.
+//!
+//! Along one column of the image the ground a ray meets is a segment whose
+//! ends (the ground's edge, the split's planes, the image's border) are
+//! where a split's worst ground receiver lies, between the rays wherever
+//! the ground is a strip of few rows: [`GroundRect::column_span`] finds them
+//! in closed form.
 
-use crate::settings::BoxFace;
+use crate::settings::Ground;
 use glam::DVec3;
 use shadowfocus_geom::Aabb;
 
-/// The ground face of a box: the plane `x_axis = at` and its rectangle
-/// `[lo, hi]` on the other two axes; `up` is `+1` where the open side (the
+/// The ground in a box: the plane `x_axis = at` and its rectangle `[lo, hi]`
+/// on the other two axes (`lo`, `hi` the box cut at the ground: its face on
+/// the ground's side is the ground); `up` is `+1` where the open side (the
 /// box's inside) lies toward greater coordinates along `axis`, else `−1`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct Ground {
+pub(crate) struct GroundRect {
     pub axis: usize,
     pub at: f64,
     pub up: f64,
@@ -37,7 +43,7 @@ pub(crate) struct Ground {
 
 /// A point of the ground seen along a camera ray: the ray's image height
 /// `s` in the column (the ray is `column + s·up`, see
-/// [`Ground::column_span`]), its view depth and the point.
+/// [`GroundRect::column_span`]), its view depth and the point.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct GroundPoint {
     pub s: f64,
@@ -45,12 +51,22 @@ pub(crate) struct GroundPoint {
     pub p: DVec3,
 }
 
-impl Ground {
-    /// The face `face` of the box `b`.
-    pub fn of(face: BoxFace, b: &Aabb) -> Ground {
-        let axis = face.axis();
-        let (at, up) = if face.is_max() { (b.max[axis], -1.0) } else { (b.min[axis], 1.0) };
-        Ground { axis, at, up, lo: b.min, hi: b.max }
+impl GroundRect {
+    /// The ground `g` in the box `b`: on the face `g.face`, or at
+    /// `g.level`, taken into the box (the nearest of its faces, where it
+    /// lies outside).
+    pub fn of(g: Ground, b: &Aabb) -> GroundRect {
+        let axis = g.face.axis();
+        let (mut lo, mut hi) = (b.min, b.max);
+        let level = |face: f64| g.level.map_or(face, |l| l.clamp(b.min[axis], b.max[axis]));
+        let (at, up) = if g.face.is_max() {
+            hi[axis] = level(b.max[axis]);
+            (hi[axis], -1.0)
+        } else {
+            lo[axis] = level(b.min[axis]);
+            (lo[axis], 1.0)
+        };
+        GroundRect { axis, at, up, lo, hi }
     }
 
     /// The face's number in `2 · axis + is_max` order ([`BoxFace::index`]).
@@ -149,10 +165,11 @@ impl Span {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::settings::BoxFace;
 
-    fn board() -> Ground {
+    fn board() -> GroundRect {
         let b = Aabb::new(DVec3::new(-10.0, 0.0, -10.0), DVec3::new(10.0, 5.0, 10.0)).unwrap();
-        Ground::of(BoxFace::MinY, &b)
+        GroundRect::of(BoxFace::MinY.into(), &b)
     }
 
     #[test]
@@ -170,9 +187,27 @@ mod tests {
         assert_eq!(g.hit(DVec3::new(0.0, -2.0, -10.0), DVec3::new(0.0, 0.25, 1.0), 0.1, 100.0), None);
         // A ceiling as the ground (a world upside down): seen from below.
         let b = Aabb::new(DVec3::new(-10.0, 0.0, -10.0), DVec3::new(10.0, 5.0, 10.0)).unwrap();
-        let g = Ground::of(BoxFace::MaxY, &b);
+        let g = GroundRect::of(BoxFace::MaxY.into(), &b);
         assert_eq!(g.normal(), DVec3::NEG_Y);
         assert_eq!(g.hit(DVec3::new(0.0, 3.0, -10.0), DVec3::new(0.0, 0.25, 1.0), 0.1, 100.0), Some(8.0));
+    }
+
+    #[test]
+    fn a_level_cuts_the_box_at_the_ground() {
+        let b = Aabb::new(DVec3::new(-10.0, -2.0, -10.0), DVec3::new(10.0, 5.0, 10.0)).unwrap();
+        // A slab's top at y = 0: the ground and the rectangle's floor there.
+        let g = GroundRect::of(Ground::at(BoxFace::MinY, 0.0), &b);
+        assert_eq!((g.axis, g.at, g.up, g.lo.y, g.hi.y), (1, 0.0, 1.0, 0.0, 5.0));
+        let eye = DVec3::new(0.0, 2.0, -10.0);
+        assert_eq!(g.hit(eye, DVec3::new(0.0, -0.25, 1.0), 0.1, 100.0), Some(8.0));
+        // At the face itself, the face's ground; outside the box, the
+        // nearest face.
+        assert_eq!(GroundRect::of(Ground::at(BoxFace::MinY, -2.0), &b), GroundRect::of(BoxFace::MinY.into(), &b));
+        assert_eq!(GroundRect::of(Ground::at(BoxFace::MinY, -7.0), &b).at, -2.0);
+        assert_eq!(GroundRect::of(Ground::at(BoxFace::MinY, 9.0), &b).at, 5.0);
+        // A ceiling at y = 4 cuts the box's top.
+        let g = GroundRect::of(Ground::at(BoxFace::MaxY, 4.0), &b);
+        assert_eq!((g.at, g.up, g.lo.y, g.hi.y), (4.0, -1.0, -2.0, 4.0));
     }
 
     #[test]
@@ -218,7 +253,13 @@ mod tests {
             let scale = 10f64.powf(rnd(-2.0, 3.0));
             let lo = DVec3::new(rnd(-1.0, 0.0), rnd(-1.0, 0.0), rnd(-1.0, 0.0)) * scale;
             let b = Aabb::new(lo, lo + DVec3::new(rnd(0.1, 2.0), rnd(0.1, 2.0), rnd(0.1, 2.0)) * scale).unwrap();
-            let g = Ground::of(BoxFace::ALL[case % 6], &b);
+            // A third of the grounds at a level inside the box.
+            let face = BoxFace::ALL[case % 6];
+            let ground = match case % 3 {
+                1 => Ground::at(face, rnd(b.min[face.axis()], b.max[face.axis()])),
+                _ => face.into(),
+            };
+            let g = GroundRect::of(ground, &b);
             let mut eye = DVec3::new(rnd(-1.5, 1.5), rnd(-1.5, 1.5), rnd(-1.5, 1.5)) * scale;
             let mut column = DVec3::new(rnd(-1.0, 1.0), rnd(-1.0, 1.0), rnd(-1.0, 1.0));
             if case % 3 != 0 {

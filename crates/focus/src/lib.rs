@@ -127,7 +127,7 @@ pub use frame::S0 as ORIENTATION_BLEND_SIN;
 pub use receiver_boxes::{ReceiverBoxes, MAX_RECEIVER_BOXES};
 pub use result::{CubeFace, DepthTest, FocusResult, MapFit, MapState, Notes, ShadowMap, Skipped};
 pub use settings::{
-    BoxFace, DepthHintCoverage, FocusSettings, Footprint, LightNear, LispsmSettings, MapOrientation, MapSizes, Method, PointMode,
+    BoxFace, DepthHintCoverage, FocusSettings, Footprint, Ground, LightNear, LispsmSettings, MapOrientation, MapSizes, Method, PointMode,
     PsmSettings, SplitScheme, SplitSettings, TexelBudget, TsmSettings, WarpDirection,
 };
 pub use splits::{clip_depth, split_depths};

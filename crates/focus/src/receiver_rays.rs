@@ -3,8 +3,8 @@
 //! it meets the scene box's ground, or where it first meets one of the
 //! engine's receiver boxes.
 
-use crate::ground::Ground;
-use crate::settings::BoxFace;
+use crate::ground::GroundRect;
+use crate::settings::Ground;
 use glam::DVec3;
 use shadowfocus_geom::Aabb;
 
@@ -55,23 +55,23 @@ pub(crate) fn clip_ray(eye: DVec3, d: DVec3, near: f64, far: f64, lo: DVec3, hi:
 #[derive(Clone, Copy)]
 pub(crate) enum ReceiverModel<'a> {
     SceneBox(&'a Aabb),
-    Ground(Ground),
+    Ground(GroundRect),
     Boxes(&'a [Aabb]),
 }
 
 impl<'a> ReceiverModel<'a> {
     /// The receiver boxes where there are any, else the scene box's ground
     /// where `ground` names one, else the scene box.
-    pub fn new(scene: &'a Aabb, receivers: &'a [Aabb], ground: Option<BoxFace>) -> ReceiverModel<'a> {
+    pub fn new(scene: &'a Aabb, receivers: &'a [Aabb], ground: Option<Ground>) -> ReceiverModel<'a> {
         match ground {
             _ if !receivers.is_empty() => ReceiverModel::Boxes(receivers),
-            Some(face) => ReceiverModel::Ground(Ground::of(face, scene)),
+            Some(g) => ReceiverModel::Ground(GroundRect::of(g, scene)),
             None => ReceiverModel::SceneBox(scene),
         }
     }
 
     /// The ground, in that model.
-    pub fn ground(self) -> Option<Ground> {
+    pub fn ground(self) -> Option<GroundRect> {
         match self {
             ReceiverModel::Ground(g) => Some(g),
             _ => None,

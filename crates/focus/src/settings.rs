@@ -326,6 +326,41 @@ impl BoxFace {
     }
 }
 
+/// The ground of an open scene ([`FocusSettings::ground`]): a plane facing
+/// into the scene box from its face `face`, on the face itself or, at
+/// `level`, inside the box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Ground {
+    /// The face the ground is parallel to, on the scene's open side of it:
+    /// `MinY` in a y-up world.
+    pub face: BoxFace,
+    /// The ground's coordinate along the face's axis where it lies above
+    /// the box's face: the top of a slab the world stands on, the mean
+    /// height of a terrain. It must lie in the scene box. None: on the
+    /// face.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub level: Option<f64>,
+}
+
+impl Ground {
+    /// The ground on the face `face` of the scene box.
+    pub const fn face(face: BoxFace) -> Ground {
+        Ground { face, level: None }
+    }
+
+    /// The ground parallel to `face` at `level` along its axis.
+    pub const fn at(face: BoxFace, level: f64) -> Ground {
+        Ground { face, level: Some(level) }
+    }
+}
+
+impl From<BoxFace> for Ground {
+    fn from(face: BoxFace) -> Ground {
+        Ground::face(face)
+    }
+}
+
 /// What the splits cover when a visible depth range is given
 /// ([`FocusSettings::visible_depth`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -435,18 +470,18 @@ pub struct FocusSettings {
     /// casters need not. Empty by default.
     #[cfg_attr(feature = "serde", serde(default))]
     pub receivers: ReceiverBoxes,
-    /// The face of the scene box that is the ground of an open scene (a
-    /// ground and what stands on it, under the sky; `MinY` in a y-up
-    /// world), when the engine knows it: the predicted aliasing (`Auto`'s
-    /// choice, the warp guard, [`SplitScheme::Optimal`],
-    /// [`crate::predict_aliasing`]) then takes its receivers on that face
-    /// only, and the box's other faces, where the scene's geometry ends,
-    /// stand for nothing. It moves what the prediction looks at, never what
+    /// The ground of an open scene (a ground and what stands on it, under
+    /// the sky; the scene box's `MinY` face in a y-up world, or a level
+    /// above it where the world stands on a slab), when the engine knows
+    /// it: the predicted aliasing (`Auto`'s choice, the warp guard,
+    /// [`SplitScheme::Optimal`], [`crate::predict_aliasing`]) then takes its
+    /// receivers on that ground only, and the box's other faces, where the
+    /// scene's geometry ends, stand for nothing. It moves what the prediction looks at, never what
     /// a map covers. None by default: every face of the scene box stands for
     /// receivers (a room's walls). Receiver boxes, where given, take
     /// precedence.
     #[cfg_attr(feature = "serde", serde(default))]
-    pub ground: Option<BoxFace>,
+    pub ground: Option<Ground>,
     /// Texels shared among the maps by their predicted aliasing, instead of
     /// `resolution²` each ([`TexelBudget`]); each map says its size in
     /// [`crate::MapFit::resolution`]. The sizes follow the view and the
@@ -564,6 +599,11 @@ impl FocusSettings {
         if let Some([lo, hi]) = self.visible_depth {
             if !(lo.is_finite() && hi.is_finite() && lo < hi) {
                 return bad("visible_depth", "must be finite with z_min < z_max");
+            }
+        }
+        if let Some(Ground { level: Some(level), .. }) = self.ground {
+            if !level.is_finite() {
+                return bad("ground.level", "must be finite");
             }
         }
         if !self.f32_origin.is_finite() {

@@ -1,7 +1,7 @@
 //! The camera of one split, as every method and the aliasing prediction
 //! read it.
 
-use crate::ground::Ground;
+use crate::ground::GroundRect;
 use crate::settings::FocusSettings;
 use shadowfocus_geom::{Camera, CameraBasis};
 
@@ -13,5 +13,5 @@ pub(crate) struct SplitView<'a> {
     /// The ground the prediction takes its receivers on
     /// ([`FocusSettings::ground`], resolved on the scene box), where the
     /// settings name one and give no receiver boxes.
-    pub ground: Option<Ground>,
+    pub ground: Option<GroundRect>,
 }

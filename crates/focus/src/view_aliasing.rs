@@ -25,13 +25,13 @@
 //! walls. Casters (and a terrain above the box's floor) stand in front of
 //! those faces; they are the part the prediction misses. Outdoors the walls
 //! are where the geometry ends: where the engine names the scene's ground
-//! ([`crate::FocusSettings::ground`]) the receivers are on that face alone
+//! ([`crate::FocusSettings::ground`]) the receivers are on that ground alone
 //! (`crate::ground`), with the ends of each ray column's part of it.
 
 use crate::project::{image_area_scale, light_factor, post_perspective};
 use crate::receiver_rays::{Hit, ReceiverModel};
 use crate::result::{CubeFace, MapState, ShadowMap};
-use crate::settings::BoxFace;
+use crate::settings::Ground;
 use crate::MAX_SPLITS;
 use glam::{DMat4, DVec3};
 use shadowfocus_geom::{unit_direction, Aabb, Camera, CameraBasis, Light};
@@ -85,8 +85,9 @@ impl ViewAliasing {
 /// The predicted aliasing of `map` for the view of `camera` (the camera the
 /// maps were fitted for, its full depth range) in the scene box `scene`,
 /// with the receiver boxes `receivers` where the engine knows them (empty:
-/// none known), else on the scene box's face `ground` where the scene is
-/// open ([`crate::FocusSettings::ground`]); `None` for a map with nothing
+/// none known), else on the `ground` where the scene is open
+/// ([`crate::FocusSettings::ground`]; a level outside the scene box is
+/// taken at the box's nearest face); `None` for a map with nothing
 /// to render, or one that serves none of the receiver samples.
 ///
 /// The receivers are where each of `RECEIVER_RAYS²` camera rays, spread
@@ -108,7 +109,7 @@ pub fn predict_aliasing(
     camera: &Camera,
     scene: &Aabb,
     receivers: &[Aabb],
-    ground: Option<BoxFace>,
+    ground: Option<Ground>,
 ) -> Option<ViewAliasing> {
     if map.fit.state != MapState::Active {
         return None;

@@ -760,11 +760,11 @@ fn a_ground_takes_the_walls_out_of_the_prediction() {
     let out = fit1(&cam, &sun, &scene, &s);
     let far = out.maps().last().unwrap();
     let walls = predict_aliasing(far, &cam, &scene, &[], None).unwrap();
-    let ground = predict_aliasing(far, &cam, &scene, &[], Some(BoxFace::MinY)).unwrap();
+    let ground = predict_aliasing(far, &cam, &scene, &[], Some(BoxFace::MinY.into())).unwrap();
     assert!(walls.max > 8.0 * ground.max, "far split: walls {walls:?}, ground {ground:?}");
     // The optimal planes follow: the first split ends nearer on the ground
     // (measured: 36 m against 44 m).
-    let on_ground = fit1(&cam, &sun, &scene, &FocusSettings { ground: Some(BoxFace::MinY), ..s });
+    let on_ground = fit1(&cam, &sun, &scene, &FocusSettings { ground: Some(BoxFace::MinY.into()), ..s });
     let (first, first_ground) = (out.split_depths()[1], on_ground.split_depths()[1]);
     assert!(first_ground < 0.9 * first, "first split ends at {first_ground} on the ground, {first} without");
     // Looking straight down at the floor of a room, far from its walls:
@@ -773,7 +773,7 @@ fn a_ground_takes_the_walls_out_of_the_prediction() {
     let o = fit1(&down, &Light::directional(DVec3::new(0.2, -1.0, 0.1)).unwrap(), &scene, &FocusSettings::default());
     let (a, b) = (
         predict_aliasing(&o.maps()[0], &down, &scene, &[], None).unwrap(),
-        predict_aliasing(&o.maps()[0], &down, &scene, &[], Some(BoxFace::MinY)).unwrap(),
+        predict_aliasing(&o.maps()[0], &down, &scene, &[], Some(BoxFace::MinY.into())).unwrap(),
     );
     let close = |x: f64, y: f64| (x / y - 1.0).abs() < 1e-12;
     assert!(close(a.max, b.max) && close(a.depths[0], b.depths[0]) && close(a.depths[1], b.depths[1]), "{a:?} {b:?}");
@@ -781,10 +781,54 @@ fn a_ground_takes_the_walls_out_of_the_prediction() {
     // seen from above it: nothing.
     let under = Camera { eye: DVec3::new(0.0, -5.0, 0.0), forward: DVec3::new(0.0, 0.3, 1.0), ..cam };
     let u = fit1(&under, &sun, &scene, &FocusSettings::default());
-    assert!(u.maps().iter().all(|m| predict_aliasing(m, &under, &scene, &[], Some(BoxFace::MinY)).is_none()));
+    assert!(u.maps().iter().all(|m| predict_aliasing(m, &under, &scene, &[], Some(BoxFace::MinY.into())).is_none()));
     let above = Camera { eye: DVec3::new(0.0, 200.0, 0.0), forward: DVec3::new(0.0, -1.0, 1.0), ..cam };
     let a = fit1(&above, &sun, &scene, &FocusSettings::default());
-    assert!(a.maps().iter().all(|m| predict_aliasing(m, &above, &scene, &[], Some(BoxFace::MaxY)).is_none()));
+    assert!(a.maps().iter().all(|m| predict_aliasing(m, &above, &scene, &[], Some(BoxFace::MaxY.into())).is_none()));
+}
+
+/// A world on a slab: the scene box reaches 2 m below the slab's top, where
+/// the receivers are. On the box's floor the prediction sees a ground 2 m
+/// too low (for an eye 1.7 m up, more than twice as far below it); at the
+/// slab's level it predicts what a receiver box around the slab does. A
+/// level at the face is the face, bit for bit; one outside the box is
+/// refused.
+#[test]
+fn a_ground_level_stands_for_a_slab_top() {
+    let scene = Aabb::new(DVec3::new(-200.0, -2.0, -200.0), DVec3::new(200.0, 8.0, 200.0)).unwrap();
+    let slab = [Aabb::new(DVec3::new(-200.0, -2.0, -200.0), DVec3::new(200.0, 0.0, 200.0)).unwrap()];
+    let cam = Camera {
+        eye: DVec3::new(0.0, 1.7, -150.0),
+        forward: DVec3::new(0.0, -0.12, 1.0),
+        up: DVec3::Y,
+        fovy: 60f64.to_radians(),
+        aspect: 16.0 / 9.0,
+        near: 0.1,
+        far: 250.0,
+    };
+    let sun = Light::directional(DVec3::new(0.1, -0.17, 0.98)).unwrap();
+    let s =
+        FocusSettings { method: Method::Auto, splits: SplitSettings { count: 4, ..SplitSettings::default() }, ..FocusSettings::default() };
+    let out = fit1(&cam, &sun, &scene, &s);
+    let (level, face) = (Ground::at(BoxFace::MinY, 0.0), Ground::face(BoxFace::MinY));
+    for m in out.maps() {
+        let on_box = predict_aliasing(m, &cam, &scene, &slab, None).unwrap();
+        let on_level = predict_aliasing(m, &cam, &scene, &[], Some(level)).unwrap();
+        let on_face = predict_aliasing(m, &cam, &scene, &[], Some(face)).unwrap();
+        // Measured: 6.05, 1.89, 1.89, 1.91 on the box and the level; 2.78,
+        // 2.79, 2.79, 2.79 on the floor.
+        let what = format!("split {}: box {on_box:?}, level {on_level:?}, face {on_face:?}", m.split);
+        assert!((on_level.max / on_box.max - 1.0).abs() < 0.005, "{what}");
+        assert!((on_face.max / on_box.max - 1.0).abs() > 0.25, "{what}");
+    }
+    let at_face = FocusSettings { ground: Some(Ground::at(BoxFace::MinY, -2.0)), ..s };
+    let (a, b) = (fit1(&cam, &sun, &scene, &at_face), fit1(&cam, &sun, &scene, &FocusSettings { ground: Some(face), ..s }));
+    assert!(a.maps().iter().zip(b.maps()).all(|(a, b)| a.fit.clip_from_world == b.fit.clip_from_world));
+    let mut o = FocusResult::new();
+    for l in [8.5, -2.5] {
+        let e = fit(&cam, &sun, &scene, &FocusSettings { ground: Some(Ground::at(BoxFace::MinY, l)), ..s }, &mut o).unwrap_err();
+        assert!(e.to_string().contains("ground.level: must lie in the scene box"), "{e}");
+    }
 }
 
 /// A texel budget sizes the maps by their predicted aliasing: over a sweep

@@ -209,7 +209,7 @@ proptest! {
     #![proptest_config(config())]
 
     #[test]
-    fn conservative_and_covering((cam, scene, light) in frame_strategy(), s in settings_strategy()) {
+    fn conservative_and_covering(((cam, scene, light), s) in framed_strategy()) {
         let mut out = FocusResult::new();
         fit(&cam, &light, &scene, &s, &mut out).map_err(|e| TestCaseError::fail(format!("{e}")))?;
         check_frame(&cam, &light, &scene, &s, &out)?;
@@ -219,7 +219,7 @@ proptest! {
     /// nearer the light has the smaller depth for `Less`, the larger for
     /// `Greater` (PSM's inverted lights included).
     #[test]
-    fn depth_order((cam, scene, light) in frame_strategy(), s in settings_strategy(), seed in any::<u64>()) {
+    fn depth_order(((cam, scene, light), s) in framed_strategy(), seed in any::<u64>()) {
         let mut out = FocusResult::new();
         fit(&cam, &light, &scene, &s, &mut out).map_err(|e| TestCaseError::fail(format!("{e}")))?;
         for map in out.maps().iter().filter(|m| m.is_active()) {
@@ -282,7 +282,7 @@ proptest! {
     /// body vertex at u, v, depth in [0, 1] with the convention's layout, and
     /// the light's view and projection multiply back to `clip_from_world`.
     #[test]
-    fn conventions_change_only_the_depth_row((cam, scene, light) in frame_strategy(), s in settings_strategy(), clip in clip_strategy()) {
+    fn conventions_change_only_the_depth_row(((cam, scene, light), s) in framed_strategy(), clip in clip_strategy()) {
         let (mut a, mut b) = (FocusResult::new(), FocusResult::new());
         let base = FocusSettings { clip: ClipConvention::WGPU, ..s };
         fit(&cam, &light, &scene, &base, &mut a).map_err(|e| TestCaseError::fail(format!("{e}")))?;
@@ -350,7 +350,7 @@ proptest! {
     /// holds every visible, lit point (the receivers) in the full clip
     /// volume; every body vertex keeps `x`, `y` and `w` inside.
     #[test]
-    fn depth_clamp_holds_the_receivers((cam, scene, light) in frame_strategy(), s in settings_strategy()) {
+    fn depth_clamp_holds_the_receivers(((cam, scene, light), s) in framed_strategy()) {
         let (mut a, mut b) = (FocusResult::new(), FocusResult::new());
         fit(&cam, &light, &scene, &s, &mut a).map_err(|e| TestCaseError::fail(format!("{e}")))?;
         fit(&cam, &light, &scene, &FocusSettings { depth_clamp: true, ..s }, &mut b).map_err(|e| TestCaseError::fail(format!("{e}")))?;
@@ -411,7 +411,7 @@ proptest! {
     /// depth included unless the depth is clamped too. Their depth and `w`
     /// rows are the body fit's own.
     #[test]
-    fn receiver_footprint_holds_the_receivers_and_their_light_rays((cam, scene, light) in frame_strategy(), s in settings_strategy(), margin in prop_oneof![Just(0.0), Just(2.0), Just(17.5)], clamp in any::<bool>(), hint in receiver_hint_strategy()) {
+    fn receiver_footprint_holds_the_receivers_and_their_light_rays(((cam, scene, light), s) in framed_strategy(), margin in prop_oneof![Just(0.0), Just(2.0), Just(17.5)], clamp in any::<bool>(), hint in receiver_hint_strategy()) {
         // With receiver boxes, the receivers promised are those inside a
         // box (the body fit gets them too: optimal planes follow them).
         let boxes = hint_boxes(&scene, &hint);
@@ -499,7 +499,7 @@ proptest! {
     /// placement alone also starts its first plane no farther out than the
     /// logarithmic plane over the range, so it never ends beyond it either.
     #[test]
-    fn visible_depth_fits_the_narrowed_camera((cam, scene, light) in frame_strategy(), s in settings_strategy(), a in 0.0..1.0f64, b in 0.0..1.0f64) {
+    fn visible_depth_fits_the_narrowed_camera(((cam, scene, light), s) in framed_strategy(), a in 0.0..1.0f64, b in 0.0..1.0f64) {
         let (a, b) = (a.min(b), a.max(b));
         let z = |t: f64| cam.near + (cam.far - cam.near) * t;
         prop_assume!(z(a) < z(b));
@@ -533,7 +533,7 @@ proptest! {
     /// fit's where the scheme places them from the range alone, and its
     /// inner splits' maps are that fit's, bit for bit.
     #[test]
-    fn visible_depth_covering_the_view_places_over_the_range((cam, scene, light) in frame_strategy(), s in settings_strategy(), a in 0.0..1.0f64, b in 0.0..1.0f64) {
+    fn visible_depth_covering_the_view_places_over_the_range(((cam, scene, light), s) in framed_strategy(), a in 0.0..1.0f64, b in 0.0..1.0f64) {
         let (a, b) = (a.min(b), a.max(b));
         let z = |t: f64| cam.near + (cam.far - cam.near) * t;
         prop_assume!(z(a) < z(b));
@@ -564,7 +564,7 @@ proptest! {
     /// maps themselves are checked with every other scheme's by
     /// `conservative_and_covering` (the generator mixes it in).
     #[test]
-    fn optimal_planes_predict_no_worse_than_practical((cam, scene, light) in frame_strategy(), s in settings_strategy(), count in 2..=6usize) {
+    fn optimal_planes_predict_no_worse_than_practical(((cam, scene, light), s) in framed_strategy(), count in 2..=6usize) {
         let s = FocusSettings { stable: false, splits: SplitSettings { count, scheme: SplitScheme::Practical { lambda: 0.5 }, delta_bias: 0.0 }, ..s };
         let optimal = FocusSettings { splits: SplitSettings { scheme: SplitScheme::Optimal, ..s.splits }, ..s };
         let (mut a, mut b) = (FocusResult::new(), FocusResult::new());
@@ -587,7 +587,7 @@ proptest! {
     /// says which, or a LiSPSM map whose warp is swept stronger than the
     /// one LiSPSM fits (its `warp_near` shorter).
     #[test]
-    fn auto_picks_one_of_the_four_maps((cam, scene, light) in frame_strategy(), s in settings_strategy()) {
+    fn auto_picks_one_of_the_four_maps(((cam, scene, light), s) in framed_strategy()) {
         // Optimal placement gives each method its own planes: compare on
         // fixed ones.
         let scheme = if s.splits.scheme == SplitScheme::Optimal { SplitScheme::Log } else { s.splits.scheme };
@@ -640,7 +640,7 @@ proptest! {
     /// `w` row, image rows that differ by a multiple of it) moves by whole
     /// texels.
     #[test]
-    fn stable_maps_move_by_whole_texels((cam, scene, light) in frame_strategy(), s in settings_strategy(), method in prop_oneof![Just(Method::Uniform), Just(Method::Lispsm), Just(Method::Tsm)], step in (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64), turn in -0.02..0.02f64, held in any::<bool>()) {
+    fn stable_maps_move_by_whole_texels(((cam, scene, light), s) in framed_strategy(), method in prop_oneof![Just(Method::Uniform), Just(Method::Lispsm), Just(Method::Tsm)], step in (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64), turn in -0.02..0.02f64, held in any::<bool>()) {
         // Optimal placement and texel budgets refuse stable maps (their
         // planes and sizes move).
         let scheme = if s.splits.scheme == SplitScheme::Optimal { SplitScheme::Log } else { s.splits.scheme };

@@ -98,34 +98,48 @@ fn add_piece(mb: &mut MeshBuilder, piece: Piece, c: DVec3, s: f64, color: [u8; 3
     mb.end();
 }
 
+/// The square (i, j) of a board whose squares' edges are `edge`, at height y.
+fn grid_cell(edge: &[f64; 9], i: usize, j: usize, y: f64) -> [DVec3; 4] {
+    let (x0, x1, z0, z1) = (edge[i], edge[i + 1], edge[j], edge[j + 1]);
+    [DVec3::new(x0, y, z0), DVec3::new(x1, y, z0), DVec3::new(x1, y, z1), DVec3::new(x0, y, z1)]
+}
+
+/// The sides and bottom of a board slab from y = 0 down to `bottom`, cut at the squares' edges.
+/// NOTE: every edge of a face is then an edge of its neighbour, vertex for vertex. A side made of
+/// one quad would meet the squares' corners on its top edge (a T-junction): rasterised, the
+/// squares' edges and the side's long edge round apart, and the far side face, seen from behind,
+/// shows through at single pixels along the board's far edge.
+fn add_slab_sides(mb: &mut MeshBuilder, edge: &[f64; 9], bottom: f64) {
+    let rim = [120, 84, 60];
+    let (lo, hi) = (edge[0], edge[8]);
+    for k in 0..8 {
+        let (a, b) = (edge[k], edge[k + 1]);
+        for z in [lo, hi] {
+            mb.quad([DVec3::new(a, bottom, z), DVec3::new(b, bottom, z), DVec3::new(b, 0.0, z), DVec3::new(a, 0.0, z)], rim);
+        }
+        for x in [lo, hi] {
+            mb.quad([DVec3::new(x, bottom, a), DVec3::new(x, bottom, b), DVec3::new(x, 0.0, b), DVec3::new(x, 0.0, a)], rim);
+        }
+        for j in 0..8 {
+            mb.quad(grid_cell(edge, k, j, bottom), rim);
+        }
+    }
+}
+
 /// A chess set: board slab with squares on top (one object) and 32 pieces; board centred at the
 /// origin, top face at y = 0.
 fn add_chess_set(mb: &mut MeshBuilder, square: f64, piece_scale: f64, slab: f64, segments: u32, scatter: Option<u64>) {
     mb.begin(true);
     let half = 4.0 * square;
+    // The squares' edges, shared by the top, the sides and the bottom.
+    let edge: [f64; 9] = std::array::from_fn(|k| -half + k as f64 * square);
     for j in 0..8 {
         for i in 0..8 {
-            let (x0, z0) = (-half + i as f64 * square, -half + j as f64 * square);
             let col = if (i + j) % 2 == 0 { DARK_SQUARE } else { LIGHT_SQUARE };
-            mb.quad(
-                [
-                    DVec3::new(x0, 0.0, z0),
-                    DVec3::new(x0 + square, 0.0, z0),
-                    DVec3::new(x0 + square, 0.0, z0 + square),
-                    DVec3::new(x0, 0.0, z0 + square),
-                ],
-                col,
-            );
+            mb.quad(grid_cell(&edge, i, j, 0.0), col);
         }
     }
-    // Slab sides and bottom (slightly inset top avoided: sides start at the top edge).
-    let rim = [120, 84, 60];
-    let (a, b) = (DVec3::new(-half, -slab, -half), DVec3::new(half, 0.0, half));
-    mb.quad([DVec3::new(a.x, a.y, a.z), DVec3::new(b.x, a.y, a.z), DVec3::new(b.x, b.y, a.z), DVec3::new(a.x, b.y, a.z)], rim);
-    mb.quad([DVec3::new(a.x, a.y, b.z), DVec3::new(b.x, a.y, b.z), DVec3::new(b.x, b.y, b.z), DVec3::new(a.x, b.y, b.z)], rim);
-    mb.quad([DVec3::new(a.x, a.y, a.z), DVec3::new(a.x, a.y, b.z), DVec3::new(a.x, b.y, b.z), DVec3::new(a.x, b.y, a.z)], rim);
-    mb.quad([DVec3::new(b.x, a.y, a.z), DVec3::new(b.x, a.y, b.z), DVec3::new(b.x, b.y, b.z), DVec3::new(b.x, b.y, a.z)], rim);
-    mb.quad([DVec3::new(a.x, a.y, a.z), DVec3::new(b.x, a.y, a.z), DVec3::new(b.x, a.y, b.z), DVec3::new(a.x, a.y, b.z)], rim);
+    add_slab_sides(mb, &edge, -slab);
     mb.end();
     use Piece::*;
     let back = [Rook, Knight, Bishop, Queen, King, Bishop, Knight, Rook];

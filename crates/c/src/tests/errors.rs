@@ -115,6 +115,17 @@ fn invalid_inputs_are_errors_with_messages() {
         ("orientation -3", Box::new(|_, _, _, s| s.orientation = -3), "not an SfOrientation value"),
         ("ground 7", Box::new(|_, _, _, s| s.ground = 7), "settings.ground: 7 is not an SfGround value"),
         ("ground -1", Box::new(|_, _, _, s| s.ground = -1), "settings.ground: -1 is not an SfGround value"),
+        ("level, no ground", Box::new(|_, _, _, s| s.ground_at_level = 1), "a ground level needs a ground face"),
+        (
+            "ground level NaN",
+            Box::new(|_, _, _, s| (s.ground, s.ground_at_level, s.ground_level) = (3, 1, f64::NAN)),
+            "invalid setting ground.level: must be finite",
+        ),
+        (
+            "ground level outside the box",
+            Box::new(|_, _, _, s| (s.ground, s.ground_at_level, s.ground_level) = (3, 1, 1e9)),
+            "invalid setting ground.level: must lie in the scene box",
+        ),
         ("0 splits", Box::new(|_, _, _, s| s.splits = 0), "invalid setting splits.count"),
         ("9 splits", Box::new(|_, _, _, s| s.splits = 9), "invalid setting splits.count"),
         (

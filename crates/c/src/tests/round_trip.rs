@@ -4,8 +4,8 @@ use super::common::*;
 use crate::*;
 use shadowfocus_focus::{
     caster_planes, cull_casters, fit, fit_prepared_with_state, BoxFace, ClipConvention, CubeFace, DepthHintCoverage, DepthRange, DepthTest,
-    FitState, FocusResult, FocusSettings, Footprint, MapSizes, Method, PointMode, PreparedView, ReceiverBoxes, ShadowMap, SplitScheme,
-    TexelBudget, UvOrigin,
+    FitState, FocusResult, FocusSettings, Footprint, Ground, MapSizes, Method, PointMode, PreparedView, ReceiverBoxes, ShadowMap,
+    SplitScheme, TexelBudget, UvOrigin,
 };
 use shadowfocus_geom::{Aabb, Body, Focuser, Frustum};
 use std::ffi::c_int;
@@ -187,20 +187,26 @@ fn a_ground_gives_the_maps_of_fit() {
     let light = lights()[0];
     let faces = [BoxFace::MinX, BoxFace::MaxX, BoxFace::MinY, BoxFace::MaxY, BoxFace::MinZ, BoxFace::MaxZ];
     let mut moved = 0;
-    for (k, face) in faces.into_iter().enumerate() {
+    // Each face, on the face and at a level a third of the way into the box.
+    let grounds = faces.into_iter().enumerate().flat_map(|(k, face)| {
+        let level = (2.0 * sc.min[face.axis()] + sc.max[face.axis()]) / 3.0;
+        [(k, Ground::face(face)), (k, Ground::at(face, level))]
+    });
+    for (k, ground) in grounds {
         for frame in [0, 120] {
             let cam = camera(frame);
             let mut s = settings(SfMethod::SF_METHOD_AUTO, 4);
             (s.split_scheme, s.ground) = (SfSplitScheme::SF_SPLIT_OPTIMAL as c_int, k as c_int + 1);
+            (s.ground_at_level, s.ground_level) = (ground.level.is_some().into(), ground.level.unwrap_or(0.0));
             let mut rs = rust_settings(SfMethod::SF_METHOD_AUTO, 4);
-            (rs.splits.scheme, rs.ground) = (SplitScheme::Optimal, Some(face));
+            (rs.splits.scheme, rs.ground) = (SplitScheme::Optimal, Some(ground));
             fit(&rust_camera(&cam), &rust_light(&light), &sc, &rs, &mut out).unwrap();
             let (rc, m) = ctx.fit(&cam, &light, &scene(), &s, &mut maps);
-            assert_eq!((rc, m), (0, out.maps().len()), "{face:?}, frame {frame}: {}", ctx.error());
+            assert_eq!((rc, m), (0, out.maps().len()), "{ground:?}, frame {frame}: {}", ctx.error());
             for (i, (c, r)) in maps.iter().zip(out.maps()).enumerate() {
-                assert_same(c, r, &format!("{face:?}, frame {frame}, map {i}"));
+                assert_same(c, r, &format!("{ground:?}, frame {frame}, map {i}"));
             }
-            if face == BoxFace::MinY {
+            if ground.face == BoxFace::MinY {
                 let with: Vec<_> = out.maps().iter().map(|m| m.fit.clip_from_world).collect();
                 fit(&rust_camera(&cam), &rust_light(&light), &sc, &FocusSettings { ground: None, ..rs }, &mut out).unwrap();
                 moved += usize::from(out.maps().iter().map(|m| m.fit.clip_from_world).collect::<Vec<_>>() != with);

@@ -64,7 +64,7 @@ mod crossings;
 mod faces;
 mod part;
 
-use crate::ground::Ground;
+use crate::ground::GroundRect;
 use crate::project::post_perspective;
 use crate::project::{crop_estimate, image_area_scale, light_factor, GRAZING_COS};
 use crate::receiver_rays::{clip_ray, first_box};
@@ -248,7 +248,7 @@ impl Samples {
 
     /// The samples on the ground `g` of the nine image rays, and in each of
     /// their three columns the two ends of the ground the column sees in the
-    /// split ([`Ground::column_span`]: the ground's edge, the split's planes,
+    /// split ([`GroundRect::column_span`]: the ground's edge, the split's planes,
     /// the image's border), which count in the predicted maximum only, as
     /// the faces' crossings do: a split's worst ground receiver lies at one
     /// of them, and the rays miss both wherever the split holds a strip of
@@ -256,7 +256,7 @@ impl Samples {
     /// near ends left out were within 5 % of the best method in 241 of 252
     /// configurations instead of 245, 23 instead of 11 higher at p95 than
     /// without a ground.
-    fn add_ground_columns(&mut self, sv: &SplitView, g: Ground) {
+    fn add_ground_columns(&mut self, sv: &SplitView, g: GroundRect) {
         let cam = sv.camera;
         let b = &sv.basis;
         let ty = (0.5 * cam.fovy).tan();

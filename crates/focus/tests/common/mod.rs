@@ -137,8 +137,9 @@ pub fn settings_strategy() -> impl Strategy<Value = FocusSettings> {
     // receiver margin the properties ask for.
     let budget = prop_oneof![2 => Just(None), 1 => ((1u64 << 20)..(1u64 << 24), any::<bool>()).prop_map(Some)];
     // A quarter name a face of the scene box as the ground (any face: the
-    // prediction moves, never what a map covers).
-    let ground = prop_oneof![3 => Just(None), 1 => (0..6usize).prop_map(|k| Some(BoxFace::ALL[k]))];
+    // prediction moves, never what a map covers); `framed_strategy` puts
+    // half of them at a level inside the scene box.
+    let ground = prop_oneof![3 => Just(None), 1 => (0..6usize).prop_map(|k| Some(Ground::face(BoxFace::ALL[k])))];
     let options = (any::<bool>(), any::<bool>(), any::<bool>(), clip_strategy(), budget, ground);
     (method_strategy(), 1..=4usize, 0..5u8, 0.0..1.0f64, options).prop_map(
         |(method, count, scheme, lambda, (stable, middle, cube, clip, budget, ground))| FocusSettings {
@@ -220,6 +221,20 @@ pub fn point_light_radius(out: &FocusResult, i: usize) -> Result<f64, TestCaseEr
         prop_assert!(maps.len() == 1 && matches!(maps[0].light, Light::Point { .. }), "split {i}: r = 0 for a map that cuts");
     }
     Ok(r)
+}
+
+/// A frame and settings for it: where the settings name a ground, half of
+/// the time at a level inside the frame's scene box (anywhere from its face
+/// to the opposite one).
+pub fn framed_strategy() -> impl Strategy<Value = ((Camera, Aabb, Light), FocusSettings)> {
+    (frame_strategy(), settings_strategy(), prop_oneof![Just(None), (0.0..=1.0f64).prop_map(Some)]).prop_map(|(frame, mut s, t)| {
+        let scene = &frame.1;
+        if let (Some(g), Some(t)) = (&mut s.ground, t) {
+            let k = g.face.axis();
+            g.level = Some((scene.min[k] + t * (scene.max[k] - scene.min[k])).clamp(scene.min[k], scene.max[k]));
+        }
+        (frame, s)
+    })
 }
 
 /// Camera, scene box and light of one frame: the independent generators
