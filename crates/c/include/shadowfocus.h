@@ -440,8 +440,8 @@ typedef struct SfSettings {
   SfGroundInt ground;
   /*
    Nonzero: the ground lies at `ground_level` on its face's axis, above
-   the face (the top of a slab the world stands on, a terrain's mean
-   height); it must lie in the scene box. Default 0: on the face.
+   the face (the top of a slab the world stands on); it must lie in the
+   scene box. Default 0: on the face.
    */
   int ground_at_level;
   /*

@@ -385,8 +385,8 @@ pub struct SfSettings {
     /// boxes take precedence. Default `SF_GROUND_NONE`.
     pub ground: SfGroundInt,
     /// Nonzero: the ground lies at `ground_level` on its face's axis, above
-    /// the face (the top of a slab the world stands on, a terrain's mean
-    /// height); it must lie in the scene box. Default 0: on the face.
+    /// the face (the top of a slab the world stands on); it must lie in the
+    /// scene box. Default 0: on the face.
     pub ground_at_level: c_int,
     /// See `ground_at_level`.
     pub ground_level: f64,

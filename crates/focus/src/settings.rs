@@ -336,9 +336,11 @@ pub struct Ground {
     /// `MinY` in a y-up world.
     pub face: BoxFace,
     /// The ground's coordinate along the face's axis where it lies above
-    /// the box's face: the top of a slab the world stands on, the mean
-    /// height of a terrain. It must lie in the scene box. None: on the
-    /// face.
+    /// the box's face: the top of a slab the world stands on. It must lie
+    /// in the scene box. None: on the face. A camera below the ground sees
+    /// none of it: the prediction then has no receivers and keeps no warp,
+    /// so a level for an uneven terrain (whose valleys the camera may
+    /// stand in) is worse than receiver boxes that follow it.
     #[cfg_attr(feature = "serde", serde(default))]
     pub level: Option<f64>,
 }
