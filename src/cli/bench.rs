@@ -81,6 +81,14 @@ pub fn configs(quick: bool, full: bool, res: u32) -> Vec<FitOptions> {
         for s in ["uniform", "log"] {
             v.push(opts(Method::Lispsm, 4, s, res));
         }
+        // Auto, one map and the same splits, beside the methods it chooses
+        // among (`--full` keeps to the four methods).
+        v.push(opts(Method::Auto, 1, "practical", res));
+        for &k in counts {
+            for s in schemes {
+                v.push(opts(Method::Auto, k, s, res));
+            }
+        }
     }
     v
 }

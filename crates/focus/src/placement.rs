@@ -91,6 +91,11 @@ pub(crate) type SplitAliasing = [Option<f64>; MAX_SPLITS];
 /// `planes`, in at most `rounds` rounds. `fit` fits every split to the
 /// planes it is given and predicts each split's maximum; when this returns,
 /// the last call of `fit` was with the planes left in `planes`.
+///
+/// NOTE: the planes are fitted again only where the last fit was not with
+/// the planes kept. Where the start beats the logarithmic planes the first
+/// round's fit follows it, and fitting the start a second time first
+/// (as this did) cost Auto a ninth of its placement on the robot war.
 pub(crate) fn place(
     planes: &mut Planes,
     lo: Option<f64>,
@@ -101,35 +106,33 @@ pub(crate) fn place(
     let first = planes[1];
     let mut a = fit(planes)?;
     let mut best = (*planes, worst(&a, m));
+    let mut fitted = *planes;
     let other = lo.and_then(|lo| log_from(planes[0], lo, planes[m], m)).map(|mut o| {
         o[1] = o[1].min(first);
         o
     });
     if let Some(other) = other.filter(|o| o != planes) {
         let b = fit(&other)?;
+        fitted = other;
         let w = worst(&b, m);
         if w < best.1 {
             (*planes, a, best) = (other, b, (other, w));
-        } else {
-            // The last fit must be with the planes kept.
-            a = fit(planes)?;
         }
     }
-    let mut last_is_best = true;
     let mut last = None;
     for _ in 0..rounds {
         if !rebalance(planes, m, &a, first, lo, &mut last) {
             break;
         }
         a = fit(planes)?;
+        fitted = *planes;
         let w = worst(&a, m);
-        last_is_best = w < best.1;
-        if last_is_best {
+        if w < best.1 {
             best = (*planes, w);
         }
     }
-    if !last_is_best {
-        *planes = best.0;
+    *planes = best.0;
+    if fitted != best.0 {
         fit(planes)?;
     }
     Ok(())
@@ -425,6 +428,26 @@ mod tests {
         assert_eq!(last, planes);
         assert_eq!(log_from(1.0, 0.5, 100.0, 2), None);
         assert_eq!(log_from(1.0, 100.0, 100.0, 2), None);
+    }
+
+    /// Where the start beats the logarithmic planes and rounds follow, the
+    /// start is fitted once: the rounds' fits follow it.
+    #[test]
+    fn the_start_is_fitted_once() {
+        let mut planes = [0.0; MAX_SPLITS + 1];
+        planes[..3].copy_from_slice(&[1.0, 30.0, 100.0]);
+        let mut calls = Vec::new();
+        // Balanced at 25: the start (30) predicts 1.2, the log planes (20)
+        // 1.25.
+        place(&mut planes, Some(4.0), 2, PLACEMENT_ROUNDS, |p| {
+            calls.push(p[1]);
+            let r = p[1] / 25.0;
+            Ok([Some(r), Some(1.0 / r), None, None, None, None, None, None])
+        })
+        .unwrap();
+        assert!((calls[1] - 20.0).abs() < 1e-9 && calls.len() > 3, "{calls:?}");
+        assert_eq!(calls.iter().filter(|&&c| c == 30.0).count(), 1, "{calls:?}");
+        assert!((planes[1] - 25.0).abs() < 1.0 && *calls.last().unwrap() == planes[1], "{calls:?}");
     }
 
     /// Splits without a prediction keep their length; a single judged split
