@@ -94,8 +94,8 @@ pub(crate) type SplitAliasing = [Option<f64>; MAX_SPLITS];
 ///
 /// NOTE: the planes are fitted again only where the last fit was not with
 /// the planes kept. Where the start beats the logarithmic planes the first
-/// round's fit follows it, and fitting the start a second time first
-/// (as this did) cost Auto a ninth of its placement on the robot war.
+/// round's fit follows it; fitting the start a second time before it would
+/// cost Auto a ninth of its placement on the robot war.
 pub(crate) fn place(
     planes: &mut Planes,
     lo: Option<f64>,

@@ -478,10 +478,10 @@ pub struct FocusSettings {
     /// it: the predicted aliasing (`Auto`'s choice, the warp guard,
     /// [`SplitScheme::Optimal`], [`crate::predict_aliasing`]) then takes its
     /// receivers on that ground only, and the box's other faces, where the
-    /// scene's geometry ends, stand for nothing. It moves what the prediction looks at, never what
-    /// a map covers. None by default: every face of the scene box stands for
-    /// receivers (a room's walls). Receiver boxes, where given, take
-    /// precedence.
+    /// scene's geometry ends, stand for nothing. It moves what the
+    /// prediction looks at, never what a map covers. None by default: every
+    /// face of the scene box stands for receivers (a room's walls).
+    /// Receiver boxes, where given, take precedence.
     #[cfg_attr(feature = "serde", serde(default))]
     pub ground: Option<Ground>,
     /// Texels shared among the maps by their predicted aliasing, instead of
