@@ -141,6 +141,9 @@ fn run(command: Command) -> Result<bool, String> {
                     "--sdsm measures the visible depth range on a rendered frame: use it with render, demo, sweep or animate".into()
                 );
             }
+            if options.visible_receivers || options.receiver_boxes {
+                return Err("--receiver-boxes and --visible-receivers take a rendered scene's receivers: use them with render or sweep (--receiver-boxes with animate too)".into());
+            }
             let settings = options.settings()?;
             let input = open(&input).map_err(io_err)?;
             if phases {

@@ -63,6 +63,11 @@ pub struct FitOptions {
     /// --depth-clamp fit to their bounds.
     #[arg(long)]
     pub receiver_boxes: bool,
+    /// Pass boxes around what a depth pre-pass of the frame sees (rendering commands only; not
+    /// with --receiver-boxes): the receivers the scene's pixels show, sliced by view depth, in
+    /// place of boxes the engine knows.
+    #[arg(long, conflicts_with = "receiver_boxes")]
+    pub visible_receivers: bool,
     /// The ground of an open scene, FACE[@LEVEL]: the face of the scene box it is parallel to,
     /// min-y for a y-up world (min-x | max-x | min-y | max-y | min-z | max-z), and where it lies
     /// above that face, its level on the face's axis (min-y@0: a world on a slab whose top is
@@ -97,6 +102,7 @@ impl Default for FitOptions {
             sdsm: false,
             sdsm_coverage: DepthHintCoverage::Hint,
             receiver_boxes: false,
+            visible_receivers: false,
             ground: None,
             budget: None,
             budget_sizes: MapSizes::Any,
@@ -184,6 +190,9 @@ impl FitOptions {
     }
 
     pub fn settings(&self) -> Result<FocusSettings, String> {
+        if self.visible_receivers && self.receiver_boxes {
+            return Err("--visible-receivers and --receiver-boxes both give the receiver boxes: pass one".into());
+        }
         if self.sdsm_coverage != DepthHintCoverage::Hint && !self.sdsm {
             return Err("--sdsm-coverage says what a visible depth hint covers: use it with --sdsm".into());
         }

@@ -6,7 +6,7 @@ use render::{contact_sheet, write_outputs, Image, LightSpec, RenderRequest, Rend
 use serde_json::{json, Value};
 use shadowfocus_focus::{
     cull_casters, fit, fit_prepared_with_state, predict_aliasing, BoxFace, DepthRange, DepthTest, FitState, FocusResult, FocusSettings,
-    Ground, Method, PreparedView, ReceiverBoxes,
+    Ground, Method, PreparedView, ReceiverBoxes, VisibleReceivers,
 };
 use shadowfocus_geom::{Aabb, Camera, Frustum, Light};
 use shadowfocus_render as render;
@@ -81,7 +81,7 @@ pub fn fit_frame(
     for m in result.maps().iter().filter(|m| m.is_active()) {
         utilisation.push(m.utilisation());
         resolutions.push(m.fit.resolution);
-        predicted.push(predict_aliasing(m, &camera, &bounds, settings.receivers.as_slice(), settings.ground).map(|p| p.max));
+        predicted.push(predict_aliasing(m, &camera, &bounds, &settings.receivers, settings.ground).map(|p| p.max));
         h_depth_span.push(depth_span(&m.fit.clip_from_world, m.body().vertices()));
         let n = cull_casters(m, &boxes, &mut idx).map_err(|e| e.to_string())?;
         specs.push(ShadowMapSpec {
@@ -152,12 +152,66 @@ pub(crate) fn visible_depth(
     settings: &FocusSettings,
     size: (u32, u32),
 ) -> Result<Option<[f64; 2]>, String> {
+    let out = pre_pass(renderer, scene, frame, settings, size)?;
+    Ok(reduced_depth(&out, renderer.adapter().compute))
+}
+
+/// A pre-pass of `frame`: what each pixel sees (its shadows coarse, no
+/// ground truth).
+fn pre_pass(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    frame: &Frame,
+    settings: &FocusSettings,
+    size: (u32, u32),
+) -> Result<render::RenderOutput, String> {
     let aspect = size.0 as f64 / size.1 as f64;
     let (specs, _, _) = fit_frame(scene, frame, aspect, settings, None)?;
     let mut req = request(scene, frame, &specs, size, 64, settings);
     (req.settings.ground_truth, req.settings.save_shadow_maps) = (false, false);
-    let out = renderer.render(&req).map_err(|e| e.to_string())?;
-    Ok(reduced_depth(&out, renderer.adapter().compute))
+    renderer.render(&req).map_err(|e| e.to_string())
+}
+
+/// Boxes around the receivers a rendered frame shows (the pixels its
+/// aliasing statistics count), sliced by view depth
+/// ([`VisibleReceivers`]); no hint where no pixel shows a receiver.
+///
+/// NOTE: the positions are the main pass's, interpolated in f32; each box
+/// is widened by 2⁻¹⁶ of the largest coordinate, far above their rounding
+/// (the boxes steer the prediction; with --fit-receivers or --depth-clamp
+/// they also bound the maps, and this frame's own pre-pass holds every
+/// receiver the frame shades).
+pub fn visible_receiver_boxes(out: &render::RenderOutput, camera: &Camera) -> Result<ReceiverBoxes, String> {
+    let mut v = VisibleReceivers::new(camera, out.height).map_err(|e| e.to_string())?;
+    for w in out.world.iter().filter(|w| w[3] == 1.0) {
+        v.add(glam::DVec3::new(w[0] as f64, w[1] as f64, w[2] as f64));
+    }
+    v.boxes(v.magnitude() / 65536.0).map_err(|e| e.to_string())
+}
+
+/// What a depth pre-pass of a frame gives its fit: the visible depth range
+/// (`--sdsm`) and boxes around the visible receivers
+/// (`--visible-receivers`).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PrePass {
+    pub visible_depth: Option<[f64; 2]>,
+    pub receivers: Option<ReceiverBoxes>,
+}
+
+impl PrePass {
+    /// The pre-pass `opts` asks for (none without `--sdsm` or
+    /// `--visible-receivers`).
+    pub fn of(renderer: &mut Renderer, scene: &Scene, frame: &Frame, opts: &FitOptions, size: (u32, u32)) -> Result<PrePass, String> {
+        if !(opts.sdsm || opts.visible_receivers) {
+            return Ok(PrePass::default());
+        }
+        let out = pre_pass(renderer, scene, frame, &opts.settings()?, size)?;
+        let (camera, _, _) = frame_inputs(scene, frame, size.0 as f64 / size.1 as f64)?;
+        Ok(PrePass {
+            visible_depth: if opts.sdsm { reduced_depth(&out, renderer.adapter().compute) } else { None },
+            receivers: if opts.visible_receivers { Some(visible_receiver_boxes(&out, &camera)?) } else { None },
+        })
+    }
 }
 
 /// The visible depth range of a rendered frame, widened for its f32
@@ -233,12 +287,12 @@ pub fn render_frame(
     maps: bool,
     state: Option<&mut FitState>,
 ) -> Result<(render::RenderOutput, Value), String> {
-    let sdsm = if opts.sdsm { visible_depth(renderer, scene, frame, &opts.settings()?, size)? } else { None };
-    render_frame_hinted(renderer, scene, frame, opts, size, maps, state, sdsm)
+    let pre = PrePass::of(renderer, scene, frame, opts, size)?;
+    render_frame_hinted(renderer, scene, frame, opts, size, maps, state, pre)
 }
 
-/// [`render_frame`] with the visible depth hint given (`--sdsm`'s, from an
-/// earlier frame) instead of reduced from a pre-pass.
+/// [`render_frame`] with the pre-pass's hints given (`--sdsm`'s visible
+/// depth range from an earlier frame) instead of a pre-pass of this one.
 #[allow(clippy::too_many_arguments)]
 pub fn render_frame_hinted(
     renderer: &mut Renderer,
@@ -248,10 +302,17 @@ pub fn render_frame_hinted(
     size: (u32, u32),
     maps: bool,
     state: Option<&mut FitState>,
-    sdsm: Option<[f64; 2]>,
+    pre: PrePass,
 ) -> Result<(render::RenderOutput, Value), String> {
     let mut settings = scene_settings(scene, opts)?;
+    if opts.visible_receivers && pre.receivers.is_none() {
+        return Err("--visible-receivers takes its boxes from a pre-pass of the frame, and none was rendered".into());
+    }
+    let sdsm = pre.visible_depth;
     settings.visible_depth = sdsm;
+    if let Some(r) = pre.receivers {
+        settings.receivers = r;
+    }
     // NOTE: the renderer is wgpu: clip depth in [0, 1] (reversed-Z maps
     // render through their greater test), and clamping where the adapter
     // has it. Anything else would render wrong shadows, so it is refused.
@@ -292,6 +353,7 @@ pub fn render_frame_hinted(
         "depth_clamp": settings.depth_clamp,
         "fit_receivers": opts.fit_receivers,
         "receiver_boxes": settings.receivers.as_slice().len(),
+        "visible_receivers": opts.visible_receivers,
         "ground": settings.ground.map(|g| json!({ "face": format!("{:?}", g.face), "level": g.level })),
         "visible_depth": sdsm,
         "focusing_us": focusing_us,
@@ -382,6 +444,10 @@ pub fn demo(dir: &Path, size: (u32, u32), resolution: u32, scenes: &[String], ov
     // pre-pass, their planes placed over it [SDSM10].
     let pssm = configs.iter().find(|(l, _)| l == "pssm4-lispsm").map(|(_, o)| o.clone()).ok_or("no pssm4-lispsm column")?;
     configs.push(("pssm4-lispsm-sdsm".into(), FitOptions { sdsm: true, ..pssm }));
+    // Auto's four splits again, on boxes around what that pre-pass sees
+    // instead of the scene's own receiver boxes.
+    let auto = configs.iter().find(|(l, _)| l == "pssm4-auto-boxes").map(|(_, o)| o.clone()).ok_or("no pssm4-auto-boxes column")?;
+    configs.push(("pssm4-auto-visible".into(), FitOptions { receiver_boxes: false, visible_receivers: true, ..auto }));
     if clamping {
         let lispsm = configs.iter().find(|(l, _)| l == "lispsm").map(|(_, o)| o.clone()).ok_or("no lispsm column")?;
         configs.push(("lispsm-clamped".into(), FitOptions { depth_clamp: true, ..lispsm }));

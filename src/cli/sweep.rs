@@ -76,6 +76,10 @@ pub struct SweepOptions {
     /// Pass every fit the boxes of the scene's receivers (see `render --receiver-boxes`).
     #[arg(long)]
     pub receiver_boxes: bool,
+    /// Pass every fit boxes around what a pre-pass of its frame sees (see `render
+    /// --visible-receivers`).
+    #[arg(long, conflicts_with = "receiver_boxes")]
+    pub visible_receivers: bool,
     /// Pass every fit the scene box's ground (see `render --ground`).
     #[arg(long, value_parser = super::fit::parse_ground)]
     pub ground: Option<Ground>,
@@ -95,6 +99,8 @@ pub struct SweepMethod {
     pub sdsm: bool,
     /// Pass the scene's receiver boxes (`--receiver-boxes`).
     pub receiver_boxes: bool,
+    /// Pass boxes around what a pre-pass sees (`--visible-receivers`).
+    pub visible_receivers: bool,
     /// The scene box's ground (`--ground`).
     pub ground: Option<Ground>,
     /// Stable maps (`-stable`): compared with `uniform-stable`.
@@ -147,7 +153,18 @@ pub fn parse_sweep_method(s: &str) -> Result<SweepMethod, String> {
         k.parse::<usize>().ok().filter(|k| (1..=16).contains(k)).ok_or_else(|| format!("sweep method {s:?}: split count must be 1–16"))?
     };
     let name = if splits == 1 { m.to_string() } else { format!("{m}{splits}") };
-    Ok(SweepMethod { name, method, splits, sdsm: false, receiver_boxes: false, ground: None, stable: false, scheme: None, shared: false })
+    Ok(SweepMethod {
+        name,
+        method,
+        splits,
+        sdsm: false,
+        receiver_boxes: false,
+        visible_receivers: false,
+        ground: None,
+        stable: false,
+        scheme: None,
+        shared: false,
+    })
 }
 
 impl SweepMethod {
@@ -167,6 +184,7 @@ impl SweepMethod {
             budget: self.shared.then_some(u64::from(resolution).pow(2)),
             sdsm: self.sdsm,
             receiver_boxes: self.receiver_boxes,
+            visible_receivers: self.visible_receivers,
             ground: self.ground,
             stable: self.stable,
             scheme: self.scheme.clone(),
@@ -269,7 +287,13 @@ impl SweepPlan {
         let methods = o
             .methods
             .iter()
-            .map(|m| SweepMethod { sdsm: o.sdsm, receiver_boxes: o.receiver_boxes, ground: o.ground, ..m.clone() })
+            .map(|m| SweepMethod {
+                sdsm: o.sdsm,
+                receiver_boxes: o.receiver_boxes,
+                visible_receivers: o.visible_receivers,
+                ground: o.ground,
+                ..m.clone()
+            })
             .collect();
         let mut plan = SweepPlan::grid(camera, &o.elevations, &o.azimuths, methods, o.resolution, o.size);
         if let Some(l) = o.light {

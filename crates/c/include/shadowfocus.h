@@ -429,6 +429,14 @@ typedef struct SfSettings {
    */
   uint32_t receiver_count;
   /*
+   Nonzero: the boxes at `receivers` are around the points a depth
+   pre-pass saw (`sf_visible_receivers`, or the engine's own reduction),
+   not solids: the prediction takes a camera ray's receiver where it
+   leaves the last box it passes through, the farthest a seen point can
+   be. Default 0: solids, a ray's receiver where it first meets one.
+   */
+  int receivers_seen;
+  /*
    An `SfGround` value: the face of the scene box that is the ground
    of an open scene (a ground and what stands on it, under the sky;
    `SF_GROUND_MIN_Y` in a y-up world). The predicted aliasing that
@@ -896,6 +904,33 @@ int sf_cull_casters(struct SfContext *ctx,
                     uint32_t *out_indices,
                     size_t capacity,
                     size_t *count);
+
+/*
+ Gathers the points a depth pre-pass of `camera`'s view saw into receiver
+ boxes for `SfSettings::receivers` (with `receivers_seen` set): slices of the view in log depth, a
+ ground seen over several slices as one box, each widened by a pixel at
+ its far end (the buffer is `height_px` pixels high) and by `margin` (the
+ points' rounding: 2^-20 of their magnitude for positions computed and
+ stored in float; for points a frame old, add the most a receiver moved
+ since). `points` holds `n` positions as x, y, z floats (`n` may be 0:
+ no hint, `*count = 0`). Writes at most `SF_MAX_RECEIVER_BOXES` boxes
+ to `out` and sets `*count`; `SF_ERR_BUFFER_TOO_SMALL` (nothing written)
+ when `capacity < *count`. A point that is not finite fails the call.
+
+ # Safety
+ `points` holds `3 * n` readable floats (or is NULL with `n` 0), `out`
+ `capacity` writable boxes (or is NULL with capacity 0); the other
+ pointers are NULL or valid.
+ */
+int sf_visible_receivers(struct SfContext *ctx,
+                         const struct SfCamera *camera,
+                         uint32_t height_px,
+                         const float *points,
+                         size_t n,
+                         double margin,
+                         struct SfAabb *out,
+                         size_t capacity,
+                         size_t *count);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -461,3 +461,55 @@ pub unsafe extern "C" fn sf_cull_casters(
         })
     }
 }
+
+/// Gathers the points a depth pre-pass of `camera`'s view saw into receiver
+/// boxes for `SfSettings::receivers` (with `receivers_seen` set): slices of the view in log depth, a
+/// ground seen over several slices as one box, each widened by a pixel at
+/// its far end (the buffer is `height_px` pixels high) and by `margin` (the
+/// points' rounding: 2^-20 of their magnitude for positions computed and
+/// stored in float; for points a frame old, add the most a receiver moved
+/// since). `points` holds `n` positions as x, y, z floats (`n` may be 0:
+/// no hint, `*count = 0`). Writes at most `SF_MAX_RECEIVER_BOXES` boxes
+/// to `out` and sets `*count`; `SF_ERR_BUFFER_TOO_SMALL` (nothing written)
+/// when `capacity < *count`. A point that is not finite fails the call.
+///
+/// # Safety
+/// `points` holds `3 * n` readable floats (or is NULL with `n` 0), `out`
+/// `capacity` writable boxes (or is NULL with capacity 0); the other
+/// pointers are NULL or valid.
+#[no_mangle]
+pub unsafe extern "C" fn sf_visible_receivers(
+    ctx: *mut SfContext,
+    camera: *const SfCamera,
+    height_px: u32,
+    points: *const f32,
+    n: usize,
+    margin: f64,
+    out: *mut SfAabb,
+    capacity: usize,
+    count: *mut usize,
+) -> c_int {
+    // SAFETY: the pointers are valid or NULL (caller); each is checked before use.
+    unsafe {
+        guard(ctx, |_| {
+            let count = reset_count(count)?;
+            let camera = convert::camera(input(camera, "camera")?);
+            output(out, capacity, "out")?;
+            if points.is_null() && n > 0 {
+                return Err(Failure::null("points"));
+            }
+            let mut v = shadowfocus_focus::VisibleReceivers::new(&camera, height_px)?;
+            if n > 0 {
+                for p in std::slice::from_raw_parts(points.cast::<[f32; 3]>(), n) {
+                    v.add(glam::DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64));
+                }
+            }
+            let boxes = v.boxes(margin)?;
+            let b = boxes.as_slice();
+            write_all(out, capacity, count, b.len(), "out (receiver boxes)", |i| SfAabb {
+                min: b[i].min.to_array(),
+                max: b[i].max.to_array(),
+            })
+        })
+    }
+}

@@ -88,6 +88,7 @@ fn optional(v: f64) -> Option<f64> {
 pub unsafe fn settings(s: &SfSettings) -> Result<FocusSettings, Failure> {
     // SAFETY: as the caller promises; NULL is refused unless the count is 0.
     let receivers = unsafe { receiver_boxes(s.receivers, s.receiver_count)? };
+    let receivers = if s.receivers_seen != 0 { ReceiverBoxes::seen(receivers.as_slice())? } else { receivers };
     Ok(FocusSettings {
         method: method(s.method)?,
         splits: SplitSettings { count: s.splits as usize, scheme: scheme(s)?, delta_bias: s.delta_bias },
@@ -237,6 +238,7 @@ pub fn default_settings() -> SfSettings {
         visible_depth_covers_view: (d.visible_depth_coverage == DepthHintCoverage::View).into(),
         receivers: std::ptr::null(),
         receiver_count: 0,
+        receivers_seen: 0,
         ground: d.ground.map_or(0, |g| g.face.index() as c_int + 1),
         ground_at_level: d.ground.is_some_and(|g| g.level.is_some()).into(),
         ground_level: d.ground.and_then(|g| g.level).unwrap_or(0.0),

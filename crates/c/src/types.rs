@@ -376,6 +376,12 @@ pub struct SfSettings {
     pub receivers: *const SfAabb,
     /// Number of boxes at `receivers`.
     pub receiver_count: u32,
+    /// Nonzero: the boxes at `receivers` are around the points a depth
+    /// pre-pass saw (`sf_visible_receivers`, or the engine's own reduction),
+    /// not solids: the prediction takes a camera ray's receiver where it
+    /// leaves the last box it passes through, the farthest a seen point can
+    /// be. Default 0: solids, a ray's receiver where it first meets one.
+    pub receivers_seen: c_int,
     /// An `SfGround` value: the face of the scene box that is the ground
     /// of an open scene (a ground and what stands on it, under the sky;
     /// `SF_GROUND_MIN_Y` in a y-up world). The predicted aliasing that

@@ -5,7 +5,7 @@ use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use glam::DVec3;
 use shadowfocus_focus::{
     cull_casters, fit, fit_map, fit_prepared, CasterRegion, FocusResult, FocusSettings, Method, PointMode, PreparedView, SplitScheme,
-    SplitSettings,
+    SplitSettings, VisibleReceivers,
 };
 use shadowfocus_geom::{focus_body, Aabb, Camera, Frustum, Light};
 
@@ -99,6 +99,23 @@ fn bench(c: &mut Criterion) {
         c.bench_function(&format!("cull/{lname}/region"), |b| b.iter(|| CasterRegion::of_map(black_box(&map))));
         c.bench_function(&format!("cull/{lname}/1600_boxes"), |b| b.iter(|| cull_casters(black_box(&map), black_box(&casters), &mut idx)));
     }
+    // A 320×180 pre-pass's points of a ground, gathered into visible receiver boxes.
+    let basis = cam.basis().unwrap();
+    let t = (0.5 * cam.fovy).tan();
+    let points: Vec<DVec3> = (0..180 * 320)
+        .map(|k| {
+            let (u, v) = ((k % 320) as f64 / 160.0 - 1.0, (k / 320) as f64 / -90.0);
+            let d = basis.forward + basis.right * (u * t * cam.aspect) + basis.up * (v * t);
+            cam.eye + d * (cam.eye.y / -d.y.min(-1e-3))
+        })
+        .collect();
+    c.bench_function("visible_receivers/320x180", |b| {
+        b.iter(|| {
+            let mut v = VisibleReceivers::new(&cam, 180).unwrap();
+            black_box(&points).iter().for_each(|p| v.add(*p));
+            v.boxes(0.0).unwrap()
+        })
+    });
     let s = FocusSettings { stable: true, splits: SplitSettings { count: 4, ..Default::default() }, ..FocusSettings::default() };
     c.bench_function("fit/sun/uniform_stable/4", |b| {
         b.iter(|| fit(black_box(&cam), black_box(&lights[0].1), black_box(&scene), black_box(&s), &mut out).unwrap())

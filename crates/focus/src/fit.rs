@@ -96,7 +96,7 @@ fn fit_held(view: &PreparedView, light: &Light, scene: &Aabb, out: &mut FocusRes
     let optimal = view.settings.splits.scheme == SplitScheme::Optimal && view.splits > 1;
     // The receivers the prediction samples, found once for every use below.
     let rays = (optimal || view.settings.texel_budget.is_some()).then(|| {
-        let model = ReceiverModel::new(&scene, view.settings.receivers.as_slice(), view.settings.ground);
+        let model = ReceiverModel::new(&scene, &view.settings.receivers, view.settings.ground);
         ReceiverRays::new(&view.whole, [view.camera.near, view.camera.far], &view.basis, light, model)
     });
     match &rays {
@@ -140,7 +140,7 @@ fn check_ground(ground: Option<Ground>, scene: &Aabb) -> Result<(), FocusError> 
 fn fit_splits(out: &mut FocusResult, view: &PreparedView, placed: &Planes, light: &Light, scene: &Aabb) -> Result<(), FocusError> {
     let depths = &view.covered(placed);
     out.set_splits(depths, view.splits, view.settings.clip);
-    let ground = ReceiverModel::new(scene, view.settings.receivers.as_slice(), view.settings.ground).ground();
+    let ground = ReceiverModel::new(scene, &view.settings.receivers, view.settings.ground).ground();
     for i in 0..view.splits {
         let range = [depths[i], depths[i + 1]];
         let mut cut = None;
@@ -304,7 +304,7 @@ pub fn fit_map(camera: &Camera, light: &Light, body: &Body, settings: &FocusSett
     }
     // NOTE: without a scene box, the body's bounds stand for it: its face
     // on the ground's side is the ground where the body reaches down to it.
-    let ground = body.bounds().and_then(|b| ReceiverModel::new(&b, settings.receivers.as_slice(), settings.ground).ground());
+    let ground = body.bounds().and_then(|b| ReceiverModel::new(&b, &settings.receivers, settings.ground).ground());
     let sv = SplitView { camera, basis, settings, ground };
     let f = fit_body(&sv, light, body, &Held::NONE)
         .ok_or(FocusError::NoSingleProjection { reason: "the light lies in the body or sees it over a half-space" })?;

@@ -117,6 +117,7 @@ mod state;
 mod view;
 mod view_aliasing;
 mod visible_depth;
+mod visible_receivers;
 
 pub use camera::{camera_from_corners, RecoveredCamera};
 pub use clip::{ClipConvention, DepthRange, UvOrigin};
@@ -135,6 +136,7 @@ pub use state::{FitState, WarpHold};
 pub use view::PreparedView;
 pub use view_aliasing::{predict_aliasing, ViewAliasing};
 pub use visible_depth::visible_depth_after_motion;
+pub use visible_receivers::VisibleReceivers;
 
 /// Most parallel splits.
 pub const MAX_SPLITS: usize = 8;

@@ -1,9 +1,10 @@
 //! Camera rays against boxes: where a ray crosses a box (slab clipping),
 //! and where it finds its receiver — where it leaves the scene box, where
-//! it meets the scene box's ground, or where it first meets one of the
-//! engine's receiver boxes.
+//! it meets the scene box's ground, where it first meets one of the
+//! engine's receiver boxes, or where it leaves the last box of seen points.
 
 use crate::ground::GroundRect;
+use crate::receiver_boxes::ReceiverBoxes;
 use crate::settings::Ground;
 use glam::DVec3;
 use shadowfocus_geom::Aabb;
@@ -56,13 +57,13 @@ pub(crate) fn clip_ray(eye: DVec3, d: DVec3, near: f64, far: f64, lo: DVec3, hi:
 pub(crate) enum ReceiverModel<'a> {
     SceneBox(&'a Aabb),
     Ground(GroundRect),
-    Boxes(&'a [Aabb]),
+    Boxes(&'a ReceiverBoxes),
 }
 
 impl<'a> ReceiverModel<'a> {
     /// The receiver boxes where there are any, else the scene box's ground
     /// where `ground` names one, else the scene box.
-    pub fn new(scene: &'a Aabb, receivers: &'a [Aabb], ground: Option<Ground>) -> ReceiverModel<'a> {
+    pub fn new(scene: &'a Aabb, receivers: &'a ReceiverBoxes, ground: Option<Ground>) -> ReceiverModel<'a> {
         match ground {
             _ if !receivers.is_empty() => ReceiverModel::Boxes(receivers),
             Some(g) => ReceiverModel::Ground(GroundRect::of(g, scene)),
@@ -93,12 +94,37 @@ impl<'a> ReceiverModel<'a> {
                 Some(Hit { z, axis: g.axis, face: face(0, g.axis) })
             }
             ReceiverModel::Boxes(boxes) => {
-                let (k, z, axis) = first_box(boxes, eye, d, near, far)?;
+                let (k, z, axis) = box_receiver(boxes, eye, d, near, far)?;
                 let axis = axis?;
                 Some(Hit { z, axis, face: face(k, axis) })
             }
         }
     }
+}
+
+/// Where the ray `eye + z·d`, `z ∈ [near, far]`, finds its receiver among
+/// `boxes`: where it first meets a solid's ([`first_box`]), or where it
+/// leaves the last box of seen points ([`last_box`]).
+pub(crate) fn box_receiver(boxes: &ReceiverBoxes, eye: DVec3, d: DVec3, near: f64, far: f64) -> Option<(usize, f64, Option<usize>)> {
+    if boxes.is_seen() {
+        last_box(boxes.as_slice(), eye, d, near, far)
+    } else {
+        first_box(boxes.as_slice(), eye, d, near, far)
+    }
+}
+
+/// The farthest point of `boxes` on the ray `eye + z·d`, `z ∈ [near, far]`:
+/// the index of the box the ray leaves last, and the depth and axis of
+/// the face it leaves through (no axis where it is still inside at `far`).
+pub(crate) fn last_box(boxes: &[Aabb], eye: DVec3, d: DVec3, near: f64, far: f64) -> Option<(usize, f64, Option<usize>)> {
+    boxes
+        .iter()
+        .enumerate()
+        .filter_map(|(k, b)| {
+            let x = clip_ray(eye, d, near, far, b.min, b.max)?;
+            Some((k, x.depth, x.axis))
+        })
+        .max_by(|a, b| a.1.total_cmp(&b.1))
 }
 
 /// The nearest of `boxes` on the ray `eye + z·d`, `z ∈ [near, far]`: its

@@ -29,6 +29,7 @@
 //! (`crate::ground`), with the ends of each ray column's part of it.
 
 use crate::project::{image_area_scale, light_factor, post_perspective};
+use crate::receiver_boxes::ReceiverBoxes;
 use crate::receiver_rays::{Hit, ReceiverModel};
 use crate::result::{CubeFace, MapState, ShadowMap};
 use crate::settings::Ground;
@@ -84,15 +85,16 @@ impl ViewAliasing {
 
 /// The predicted aliasing of `map` for the view of `camera` (the camera the
 /// maps were fitted for, its full depth range) in the scene box `scene`,
-/// with the receiver boxes `receivers` where the engine knows them (empty:
-/// none known), else on the `ground` where the scene is open
+/// with the receiver boxes `receivers` where the engine knows them
+/// ([`ReceiverBoxes::NONE`]: none known), else on the `ground` where the scene is open
 /// ([`crate::FocusSettings::ground`]; a level outside the scene box is
 /// taken at the box's nearest face); `None` for a map with nothing
 /// to render, or one that serves none of the receiver samples.
 ///
 /// The receivers are where each of `RECEIVER_RAYS²` camera rays, spread
 /// evenly over the image, first meets a receiver box (the face it enters
-/// through, or leaves through from inside), or without boxes where it
+/// through, or leaves through from inside; for boxes of seen points,
+/// [`ReceiverBoxes::seen`], the face it leaves the last one through), or without boxes where it
 /// leaves the scene box (a ground, a wall: that face's normal), where that
 /// face turns toward the light: a camera inside
 /// the scene box sees its surfaces, not the air in front of its near plane,
@@ -108,7 +110,7 @@ pub fn predict_aliasing(
     map: &ShadowMap,
     camera: &Camera,
     scene: &Aabb,
-    receivers: &[Aabb],
+    receivers: &ReceiverBoxes,
     ground: Option<Ground>,
 ) -> Option<ViewAliasing> {
     if map.fit.state != MapState::Active {
@@ -409,7 +411,7 @@ mod tests {
         };
         let basis = camera.basis().unwrap();
         let light = Light::directional(DVec3::new(0.3, -1.0, 0.2)).unwrap();
-        let model = ReceiverModel::new(&scene, &[], None);
+        let model = ReceiverModel::new(&scene, &ReceiverBoxes::NONE, None);
         let whole = ReceiverRays::new(&camera, [camera.near, camera.far], &basis, &light, model);
         let floor = whole.nearest().unwrap();
         let mut checked = 0;

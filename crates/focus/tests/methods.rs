@@ -678,7 +678,7 @@ fn predicted_aliasing_matches_the_closed_form_over_a_floor() {
         let (size, texels) = (720.0, 1024.0);
         let texel = (4.0 / (m.row(0).truncate().length() * m.row(1).truncate().length())).sqrt() / texels;
         let pixel = 2.0 * h * (0.5 * fovy).tan() / size;
-        let p = predict_aliasing(map, &cam, &scene, &[], None).unwrap().in_pixels(size, size, texels);
+        let p = predict_aliasing(map, &cam, &scene, &ReceiverBoxes::NONE, None).unwrap().in_pixels(size, size, texels);
         let want = texel / pixel;
         assert!((p.max / want - 1.0).abs() < 1e-9, "h {h}: predicted {p:?}, closed form {want}");
         assert_eq!((p.near, p.depths[0]), (p.max, h));
@@ -688,7 +688,7 @@ fn predicted_aliasing_matches_the_closed_form_over_a_floor() {
         fit(&away, &Light::directional(DVec3::NEG_Y).unwrap(), &scene, &s, &mut empty).unwrap();
         assert!(
             !empty.maps().is_empty()
-                && empty.maps().iter().all(|m| !m.is_active() && predict_aliasing(m, &away, &scene, &[], None).is_none())
+                && empty.maps().iter().all(|m| !m.is_active() && predict_aliasing(m, &away, &scene, &ReceiverBoxes::NONE, None).is_none())
         );
     }
 }
@@ -712,7 +712,7 @@ fn predicted_aliasing_takes_receivers_on_their_boxes() {
     let texel = (4.0 / (m.row(0).truncate().length() * m.row(1).truncate().length())).sqrt() / texels;
     let closed_form = |distance: f64| texel / (2.0 * distance * (0.5 * cam.fovy).tan() / size);
     for (boxes, distance) in [(&[slab][..], h), (&[][..], h + 6.0), (&[slab, scene][..], h)] {
-        let p = predict_aliasing(map, &cam, &scene, boxes, None).unwrap().in_pixels(size, size, texels);
+        let p = predict_aliasing(map, &cam, &scene, &ReceiverBoxes::new(boxes).unwrap(), None).unwrap().in_pixels(size, size, texels);
         assert!((p.max / closed_form(distance) - 1.0).abs() < 1e-9, "{boxes:?}: predicted {p:?}, closed form {}", closed_form(distance));
         assert_eq!(p.depths[0], distance);
     }
@@ -723,11 +723,22 @@ fn predicted_aliasing_takes_receivers_on_their_boxes() {
     let aside = Aabb::new(DVec3::new(40.0, 8.0, 40.0), DVec3::new(50.0, 9.0, 50.0)).unwrap();
     let below = Light::directional(DVec3::Y).unwrap();
     let o = fit1(&up, &below, &scene, &s);
-    assert_eq!(predict_aliasing(&o.maps()[0], &up, &scene, &[roof], None).unwrap().depths[0], 8.0 - h);
-    assert_eq!(predict_aliasing(&o.maps()[0], &up, &scene, &[aside], None), None);
+    assert_eq!(predict_aliasing(&o.maps()[0], &up, &scene, &ReceiverBoxes::new(&[roof]).unwrap(), None).unwrap().depths[0], 8.0 - h);
+    assert_eq!(predict_aliasing(&o.maps()[0], &up, &scene, &ReceiverBoxes::new(&[aside]).unwrap(), None), None);
     let room = Aabb::new(DVec3::new(-50.0, -1.0, -50.0), DVec3::new(50.0, 9.0, 50.0)).unwrap();
-    let p = predict_aliasing(map, &cam, &scene, &[room], None).unwrap();
+    let p = predict_aliasing(map, &cam, &scene, &ReceiverBoxes::new(&[room]).unwrap(), None).unwrap();
     assert_eq!(p.depths[0], h + 1.0);
+    // Boxes of seen points: the receiver where a ray leaves the last one,
+    // the farthest a seen point on it can be (the slab's underside; below
+    // two thin boxes, the lower's).
+    let seen = |b: &[Aabb]| predict_aliasing(map, &cam, &scene, &ReceiverBoxes::seen(b).unwrap(), None).unwrap().depths[0];
+    let (top, low) = (
+        Aabb::new(DVec3::new(-50.0, -1.0, -50.0), DVec3::new(50.0, 0.0, 50.0)).unwrap(),
+        Aabb::new(DVec3::new(-50.0, -3.0, -50.0), DVec3::new(50.0, -2.0, 50.0)).unwrap(),
+    );
+    assert_eq!(seen(&[slab]), h + 6.0);
+    assert_eq!(seen(&[top, low]), h + 3.0);
+    assert_eq!(seen(&[low, top]), h + 3.0);
     // Bad boxes are refused with the setting named.
     let bad = Aabb { min: DVec3::ONE, max: DVec3::ZERO };
     assert!(matches!(ReceiverBoxes::new(&[slab, bad]), Err(FocusError::InvalidSettings { what: "receivers", .. })));
@@ -759,8 +770,8 @@ fn a_ground_takes_the_walls_out_of_the_prediction() {
         FocusSettings { method: Method::Auto, splits: SplitSettings { count: 4, ..SplitSettings::default() }, ..FocusSettings::default() };
     let out = fit1(&cam, &sun, &scene, &s);
     let far = out.maps().last().unwrap();
-    let walls = predict_aliasing(far, &cam, &scene, &[], None).unwrap();
-    let ground = predict_aliasing(far, &cam, &scene, &[], Some(BoxFace::MinY.into())).unwrap();
+    let walls = predict_aliasing(far, &cam, &scene, &ReceiverBoxes::NONE, None).unwrap();
+    let ground = predict_aliasing(far, &cam, &scene, &ReceiverBoxes::NONE, Some(BoxFace::MinY.into())).unwrap();
     assert!(walls.max > 8.0 * ground.max, "far split: walls {walls:?}, ground {ground:?}");
     // The optimal planes follow: the first split ends nearer on the ground
     // (measured: 36 m against 44 m).
@@ -772,8 +783,8 @@ fn a_ground_takes_the_walls_out_of_the_prediction() {
     let down = Camera { eye: DVec3::new(0.0, 20.0, 0.0), forward: DVec3::NEG_Y, up: DVec3::Z, fovy: 0.5, ..cam };
     let o = fit1(&down, &Light::directional(DVec3::new(0.2, -1.0, 0.1)).unwrap(), &scene, &FocusSettings::default());
     let (a, b) = (
-        predict_aliasing(&o.maps()[0], &down, &scene, &[], None).unwrap(),
-        predict_aliasing(&o.maps()[0], &down, &scene, &[], Some(BoxFace::MinY.into())).unwrap(),
+        predict_aliasing(&o.maps()[0], &down, &scene, &ReceiverBoxes::NONE, None).unwrap(),
+        predict_aliasing(&o.maps()[0], &down, &scene, &ReceiverBoxes::NONE, Some(BoxFace::MinY.into())).unwrap(),
     );
     let close = |x: f64, y: f64| (x / y - 1.0).abs() < 1e-12;
     assert!(close(a.max, b.max) && close(a.depths[0], b.depths[0]) && close(a.depths[1], b.depths[1]), "{a:?} {b:?}");
@@ -781,10 +792,10 @@ fn a_ground_takes_the_walls_out_of_the_prediction() {
     // seen from above it: nothing.
     let under = Camera { eye: DVec3::new(0.0, -5.0, 0.0), forward: DVec3::new(0.0, 0.3, 1.0), ..cam };
     let u = fit1(&under, &sun, &scene, &FocusSettings::default());
-    assert!(u.maps().iter().all(|m| predict_aliasing(m, &under, &scene, &[], Some(BoxFace::MinY.into())).is_none()));
+    assert!(u.maps().iter().all(|m| predict_aliasing(m, &under, &scene, &ReceiverBoxes::NONE, Some(BoxFace::MinY.into())).is_none()));
     let above = Camera { eye: DVec3::new(0.0, 200.0, 0.0), forward: DVec3::new(0.0, -1.0, 1.0), ..cam };
     let a = fit1(&above, &sun, &scene, &FocusSettings::default());
-    assert!(a.maps().iter().all(|m| predict_aliasing(m, &above, &scene, &[], Some(BoxFace::MaxY.into())).is_none()));
+    assert!(a.maps().iter().all(|m| predict_aliasing(m, &above, &scene, &ReceiverBoxes::NONE, Some(BoxFace::MaxY.into())).is_none()));
 }
 
 /// A world on a slab: the scene box reaches 2 m below the slab's top, where
@@ -812,9 +823,9 @@ fn a_ground_level_stands_for_a_slab_top() {
     let out = fit1(&cam, &sun, &scene, &s);
     let (level, face) = (Ground::at(BoxFace::MinY, 0.0), Ground::face(BoxFace::MinY));
     for m in out.maps() {
-        let on_box = predict_aliasing(m, &cam, &scene, &slab, None).unwrap();
-        let on_level = predict_aliasing(m, &cam, &scene, &[], Some(level)).unwrap();
-        let on_face = predict_aliasing(m, &cam, &scene, &[], Some(face)).unwrap();
+        let on_box = predict_aliasing(m, &cam, &scene, &ReceiverBoxes::new(&slab).unwrap(), None).unwrap();
+        let on_level = predict_aliasing(m, &cam, &scene, &ReceiverBoxes::NONE, Some(level)).unwrap();
+        let on_face = predict_aliasing(m, &cam, &scene, &ReceiverBoxes::NONE, Some(face)).unwrap();
         // Measured: 6.05, 1.89, 1.89, 1.91 on the box and the level; 2.78,
         // 2.79, 2.79, 2.79 on the floor.
         let what = format!("split {}: box {on_box:?}, level {on_level:?}, face {on_face:?}", m.split);
@@ -842,7 +853,7 @@ fn a_texel_budget_evens_the_predicted_aliasing() {
     let worst = |out: &FocusResult, boxes: &[Aabb]| {
         let mut worst = 0.0f64;
         for m in out.maps().iter().filter(|m| m.is_active()) {
-            if let Some(p) = predict_aliasing(m, &cam, &scene, boxes, None) {
+            if let Some(p) = predict_aliasing(m, &cam, &scene, &ReceiverBoxes::new(boxes).unwrap(), None) {
                 worst = worst.max(p.max / m.fit.resolution as f64);
             }
         }
@@ -907,7 +918,11 @@ fn a_sun_in_the_cameras_vertical_plane_fits_the_same_either_side() {
         let fitted = |x: f64| fit1(&cam, &Light::directional(DVec3::new(x, y, z)).unwrap(), &scene, &s);
         let base = fitted(0.0);
         let worst = |out: &FocusResult| {
-            out.maps().iter().filter_map(|m| predict_aliasing(m, &cam, &scene, &[], None)).map(|p| p.max).fold(0.0, f64::max)
+            out.maps()
+                .iter()
+                .filter_map(|m| predict_aliasing(m, &cam, &scene, &ReceiverBoxes::NONE, None))
+                .map(|p| p.max)
+                .fold(0.0, f64::max)
         };
         for x in [-5.175_581_015_019_659e-17, 5e-17, -1e-13, 1e-13] {
             let out = fitted(x);

@@ -411,11 +411,13 @@ proptest! {
     /// depth included unless the depth is clamped too. Their depth and `w`
     /// rows are the body fit's own.
     #[test]
-    fn receiver_footprint_holds_the_receivers_and_their_light_rays(((cam, scene, light), s) in framed_strategy(), margin in prop_oneof![Just(0.0), Just(2.0), Just(17.5)], clamp in any::<bool>(), hint in receiver_hint_strategy()) {
+    fn receiver_footprint_holds_the_receivers_and_their_light_rays(((cam, scene, light), s) in framed_strategy(), margin in prop_oneof![Just(0.0), Just(2.0), Just(17.5)], clamp in any::<bool>(), hint in receiver_hint_strategy(), seen in any::<bool>()) {
         // With receiver boxes, the receivers promised are those inside a
-        // box (the body fit gets them too: optimal planes follow them).
+        // box (the body fit gets them too: optimal planes follow them);
+        // boxes of seen points promise the same, predicted otherwise.
         let boxes = hint_boxes(&scene, &hint);
-        let receivers = ReceiverBoxes::new(&boxes).map_err(|e| TestCaseError::fail(format!("{e}")))?;
+        let receivers = if seen { ReceiverBoxes::seen(&boxes) } else { ReceiverBoxes::new(&boxes) };
+        let receivers = receivers.map_err(|e| TestCaseError::fail(format!("{e}")))?;
         let s = FocusSettings { stable: false, receivers, ..s };
         let r = FocusSettings { footprint: Footprint::Receivers { margin_texels: margin }, depth_clamp: clamp, ..s };
         let (mut a, mut b) = (FocusResult::new(), FocusResult::new());
@@ -578,7 +580,7 @@ proptest! {
         prop_assert!(db.windows(2).all(|w| w[0] <= w[1]), "{:?}", db);
         // NOTE: judged on the receivers the placement predicts on: the
         // scene box's faces, or its ground where the settings name one.
-        let worst = |r: &FocusResult| r.maps().iter().filter_map(|m| predict_aliasing(m, &cam, &scene, &[], s.ground)).fold(0.0f64, |w, p| w.max(p.max));
+        let worst = |r: &FocusResult| r.maps().iter().filter_map(|m| predict_aliasing(m, &cam, &scene, &ReceiverBoxes::NONE, s.ground)).fold(0.0f64, |w, p| w.max(p.max));
         prop_assert!(worst(&b) <= worst(&a), "optimal {} > practical {}: {:?} vs {:?}", worst(&b), worst(&a), db, da);
     }
 

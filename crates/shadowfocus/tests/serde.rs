@@ -2,7 +2,7 @@
 //! round trip unchanged, and a frustum is checked on the way in.
 
 use glam::DVec3;
-use shadowfocus::focus::{fit, ClipConvention, FocusResult, FocusSettings, MapFit, Method, Notes, SplitSettings};
+use shadowfocus::focus::{fit, ClipConvention, FocusResult, FocusSettings, MapFit, Method, Notes, ReceiverBoxes, SplitSettings};
 use shadowfocus::geom::{Aabb, Camera, Frustum, Light};
 
 fn round_trip<T: serde::Serialize + serde::de::DeserializeOwned>(value: &T) -> T {
@@ -63,4 +63,23 @@ fn a_frustum_is_checked_on_the_way_in() {
     let cam = Camera { eye: DVec3::ZERO, forward: DVec3::NEG_Z, up: DVec3::Y, fovy: 1.0, aspect: 1.0, near: 1.0, far: 10.0 };
     let f = Frustum::from_camera(&cam).unwrap();
     assert_eq!(round_trip(&f), f);
+}
+
+#[test]
+fn receiver_boxes_keep_their_kind() {
+    // Solids serialise as a list of boxes (as before there were boxes of
+    // seen points), seen points as `{"seen": [...]}`; bad boxes are refused.
+    let b = [Aabb::new(DVec3::ZERO, DVec3::ONE).unwrap(), Aabb::new(DVec3::splat(2.0), DVec3::splat(3.0)).unwrap()];
+    let solid = ReceiverBoxes::new(&b).unwrap();
+    let seen = ReceiverBoxes::seen(&b).unwrap();
+    assert!(serde_json::to_string(&solid).unwrap().starts_with('['));
+    assert!(serde_json::to_string(&seen).unwrap().starts_with("{\"seen\""));
+    assert_eq!(round_trip(&solid), solid);
+    assert_eq!(round_trip(&seen), seen);
+    assert!(round_trip(&seen).is_seen() && !round_trip(&solid).is_seen());
+    let settings = FocusSettings { receivers: seen, ..FocusSettings::default() };
+    assert_eq!(round_trip(&settings), settings);
+    let bad = r#"{"seen": [{"min": [0, 0, 0], "max": [1, -1, 1]}]}"#;
+    let err = serde_json::from_str::<ReceiverBoxes>(bad).unwrap_err();
+    assert!(err.to_string().contains("receiver box"), "{err}");
 }

@@ -15,7 +15,7 @@ pub use path::{parse_path, path_camera, CameraPath};
 
 use super::fit::FitOptions;
 use super::overrides::{parse_light, Frame, LightOverride};
-use super::render::{frame_inputs, reduced_depth, render_frame_hinted, visible_depth};
+use super::render::{frame_inputs, reduced_depth, render_frame_hinted, visible_depth, PrePass};
 use render::{contact_sheet, Image, Renderer, Scene};
 use serde_json::{json, Value};
 use shadowfocus_focus::{fit_prepared_with_state, visible_depth_after_motion, FitState, FocusResult, FocusSettings, PreparedView};
@@ -90,6 +90,9 @@ pub fn animate(o: &AnimateOptions) -> Result<Value, String> {
     if o.frames < 2 {
         return Err("--frames: at least 2 frames are needed to compare one with the next".into());
     }
+    if o.fit.visible_receivers {
+        return Err("--visible-receivers takes a pre-pass of each frame, which animate does not render: use render or sweep".into());
+    }
     let scene = render::load_scene(&o.scene).map_err(|e| e.to_string())?;
     let mut renderer = Renderer::from_env().map_err(|e| e.to_string())?;
     std::fs::create_dir_all(&o.out).map_err(|e| e.to_string())?;
@@ -122,7 +125,16 @@ pub fn animate(o: &AnimateOptions) -> Result<Value, String> {
                 visible_depth_after_motion(*range, then, &now)
             }
         };
-        let (out, _) = render_frame_hinted(&mut renderer, &scene, &frame, &o.fit, o.size, true, Some(&mut state), sdsm)?;
+        let (out, _) = render_frame_hinted(
+            &mut renderer,
+            &scene,
+            &frame,
+            &o.fit,
+            o.size,
+            true,
+            Some(&mut state),
+            PrePass { visible_depth: sdsm, receivers: None },
+        )?;
         if o.fit.sdsm {
             let (now, _, _) = frame_inputs(&scene, &frame, aspect)?;
             last = reduced_depth(&out, renderer.adapter().compute).map(|r| (r, now));

@@ -9,6 +9,7 @@ use shadowfocus_focus::{
 };
 use shadowfocus_geom::{Aabb, Body, Focuser, Frustum};
 use std::ffi::c_int;
+use std::ptr;
 
 const METHODS: [SfMethod; 5] =
     [SfMethod::SF_METHOD_UNIFORM, SfMethod::SF_METHOD_PSM, SfMethod::SF_METHOD_LISPSM, SfMethod::SF_METHOD_TSM, SfMethod::SF_METHOD_AUTO];
@@ -467,4 +468,70 @@ fn default_settings_are_the_library_defaults() {
     // SAFETY: no receiver boxes.
     assert_eq!(unsafe { crate::convert::settings(&s) }.unwrap(), shadowfocus_focus::FocusSettings::default());
     assert_eq!((s.depth_zero_to_one, s.reversed_z, s.uv_origin_top_left), (1, 0, 1));
+}
+
+/// Visible receiver boxes through C: those of `VisibleReceivers` from the
+/// same float points, bit for bit, for a bumpy ground seen from frames of
+/// the walk; none for no points; a short buffer gets the count.
+#[test]
+fn visible_receivers_are_those_of_the_library() {
+    let ctx = Ctx::new();
+    for k in [0, 40, 120] {
+        let cam = camera(k);
+        let rc = rust_camera(&cam);
+        let b = rc.basis().unwrap();
+        // The points a 64-row pre-pass sees of y = 0.3 sin(x) cos(z), on a grid of rays.
+        let mut pts: Vec<f32> = Vec::new();
+        for j in 0..32 {
+            for i in 0..48 {
+                let (u, v) = (i as f64 / 47.0 * 2.0 - 1.0, -(j as f64) / 31.0);
+                let d = b.forward + b.right * (u * 0.9) + b.up * (v * 0.5);
+                if d.y >= 0.0 {
+                    continue;
+                }
+                let p = rc.eye + d * (-rc.eye.y / d.y);
+                let p = glam::DVec3::new(p.x, 0.3 * p.x.sin() * p.z.cos(), p.z);
+                pts.extend([p.x as f32, p.y as f32, p.z as f32]);
+            }
+        }
+        let mut v = shadowfocus_focus::VisibleReceivers::new(&rc, 64).unwrap();
+        for p in pts.chunks(3) {
+            v.add(glam::DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64));
+        }
+        let want = v.boxes(1e-3).unwrap();
+        let mut out = [SfAabb { min: [9.0; 3], max: [9.0; 3] }; SF_MAX_RECEIVER_BOXES as usize];
+        let mut n = 99;
+        let rc = unsafe { sf_visible_receivers(ctx.0, &cam, 64, pts.as_ptr(), pts.len() / 3, 1e-3, out.as_mut_ptr(), out.len(), &mut n) };
+        assert_eq!(rc, 0, "frame {k}: {}", ctx.error());
+        assert_eq!(n, want.as_slice().len(), "frame {k}");
+        assert!(n >= 1);
+        for (c, r) in out[..n].iter().zip(want.as_slice()) {
+            assert_eq!((bits(&c.min), bits(&c.max)), (bits(&r.min.to_array()), bits(&r.max.to_array())), "frame {k}");
+        }
+        // Fitted with the boxes marked seen: the maps of `fit` with them.
+        let mut s = settings(SfMethod::SF_METHOD_AUTO, 4);
+        (s.split_scheme, s.receivers, s.receiver_count, s.receivers_seen) =
+            (SfSplitScheme::SF_SPLIT_OPTIMAL as c_int, out.as_ptr(), n as u32, 1);
+        let mut rs = rust_settings(SfMethod::SF_METHOD_AUTO, 4);
+        (rs.splits.scheme, rs.receivers) = (SplitScheme::Optimal, want);
+        assert!(want.is_seen());
+        let mut result = FocusResult::new();
+        let mut maps = vec![canary_map(); SF_MAX_MAPS as usize];
+        let light = lights()[0];
+        fit(&rust_camera(&cam), &rust_light(&light), &rust_scene(), &rs, &mut result).unwrap();
+        let (code, m) = ctx.fit(&cam, &light, &scene(), &s, &mut maps);
+        assert_eq!((code, m), (0, result.maps().len()), "frame {k}: {}", ctx.error());
+        for (i, (c, r)) in maps.iter().zip(result.maps()).enumerate() {
+            assert_same(c, r, &format!("seen boxes, frame {k}, map {i}"));
+        }
+        let mut short = [SfAabb { min: [9.0; 3], max: [9.0; 3] }; 1];
+        let rc = unsafe { sf_visible_receivers(ctx.0, &cam, 64, pts.as_ptr(), pts.len() / 3, 1e-3, short.as_mut_ptr(), n - 1, &mut n) };
+        if n > 1 {
+            assert_eq!(rc, SfStatus::SF_ERR_BUFFER_TOO_SMALL as c_int);
+            assert_eq!(short[0].min, [9.0; 3], "nothing written");
+        }
+    }
+    let mut n = 99;
+    let rc = unsafe { sf_visible_receivers(ctx.0, &camera(0), 64, ptr::null(), 0, 0.0, ptr::null_mut(), 0, &mut n) };
+    assert_eq!((rc, n), (0, 0), "no points: no hint");
 }

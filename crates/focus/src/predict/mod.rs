@@ -67,7 +67,7 @@ mod part;
 use crate::ground::GroundRect;
 use crate::project::post_perspective;
 use crate::project::{crop_estimate, image_area_scale, light_factor, GRAZING_COS};
-use crate::receiver_rays::{clip_ray, first_box};
+use crate::receiver_rays::{box_receiver, clip_ray};
 use crate::split_view::SplitView;
 use crossings::{crossing, one_row, Face, FaceHit};
 use faces::{face_rays, lit_faces, FACE_RAYS};
@@ -280,7 +280,7 @@ impl Samples {
     /// turned away from the light). Where the sample is on a face and
     /// firmly lit, that face.
     fn add_ray(&mut self, sv: &SplitView, d: DVec3, lo: DVec3, hi: DVec3) -> Option<Face> {
-        let (cam, receivers) = (sv.camera, sv.settings.receivers.as_slice());
+        let (cam, receivers) = (sv.camera, &sv.settings.receivers);
         if let Some(g) = sv.ground {
             // On the ground, or nothing: the sky over its edge.
             let z = g.hit(cam.eye, d, cam.near, cam.far)?;
@@ -290,7 +290,8 @@ impl Samples {
         let (z, axis, (lo, hi)) = if receivers.is_empty() {
             clip_ray(cam.eye, d, cam.near, cam.far, lo, hi).map(|exit| (exit.depth, exit.axis, (lo, hi)))
         } else {
-            first_box(receivers, cam.eye, d, cam.near, cam.far).map(|(b, z, axis)| (z, axis, (receivers[b].min, receivers[b].max)))
+            let b = receivers.as_slice();
+            box_receiver(receivers, cam.eye, d, cam.near, cam.far).map(|(k, z, axis)| (z, axis, (b[k].min, b[k].max)))
         }?;
         // The face the ray leaves or meets along axis k is seen from the
         // side its ray comes from: its normal toward the camera is −sign(d_k).
