@@ -117,14 +117,7 @@ pub(crate) fn box_receiver(boxes: &ReceiverBoxes, eye: DVec3, d: DVec3, near: f6
 /// the index of the box the ray leaves last, and the depth and axis of
 /// the face it leaves through (no axis where it is still inside at `far`).
 pub(crate) fn last_box(boxes: &[Aabb], eye: DVec3, d: DVec3, near: f64, far: f64) -> Option<(usize, f64, Option<usize>)> {
-    boxes
-        .iter()
-        .enumerate()
-        .filter_map(|(k, b)| {
-            let x = clip_ray(eye, d, near, far, b.min, b.max)?;
-            Some((k, x.depth, x.axis))
-        })
-        .max_by(|a, b| a.1.total_cmp(&b.1))
+    crossed(boxes, eye, d, near, far).map(|(k, x)| (k, x.depth, x.axis)).max_by(|a, b| a.1.total_cmp(&b.1))
 }
 
 /// The nearest of `boxes` on the ray `eye + z·d`, `z ∈ [near, far]`: its
@@ -132,17 +125,17 @@ pub(crate) fn last_box(boxes: &[Aabb], eye: DVec3, d: DVec3, near: f64, far: f64
 /// leaves it through where it starts inside (no axis where it is still
 /// inside at `far`).
 pub(crate) fn first_box(boxes: &[Aabb], eye: DVec3, d: DVec3, near: f64, far: f64) -> Option<(usize, f64, Option<usize>)> {
-    boxes
-        .iter()
-        .enumerate()
-        .filter_map(|(k, b)| {
-            let x = clip_ray(eye, d, near, far, b.min, b.max)?;
-            Some(match x.entry_axis {
-                Some(axis) => (k, x.entry, Some(axis)),
-                None => (k, x.depth, x.axis),
-            })
+    crossed(boxes, eye, d, near, far)
+        .map(|(k, x)| match x.entry_axis {
+            Some(axis) => (k, x.entry, Some(axis)),
+            None => (k, x.depth, x.axis),
         })
         .min_by(|a, b| a.1.total_cmp(&b.1))
+}
+
+/// The boxes the ray crosses in `[near, far]`, with where it crosses each.
+fn crossed(boxes: &[Aabb], eye: DVec3, d: DVec3, near: f64, far: f64) -> impl Iterator<Item = (usize, Exit)> + '_ {
+    boxes.iter().enumerate().filter_map(move |(k, b)| Some((k, clip_ray(eye, d, near, far, b.min, b.max)?)))
 }
 
 /// A camera ray's receiver: its view depth, the axis of the box face it
