@@ -15,10 +15,12 @@ pub use path::{parse_path, path_camera, CameraPath};
 
 use super::fit::FitOptions;
 use super::overrides::{parse_light, Frame, LightOverride};
-use super::render::{frame_inputs, reduced_depth, render_frame_hinted, visible_depth, PrePass};
+use super::render::{frame_inputs, reduced_depth, render_frame_hinted, scene_settings, visible_depth, visible_receiver_boxes, PrePass};
 use render::{contact_sheet, Image, Renderer, Scene};
 use serde_json::{json, Value};
-use shadowfocus_focus::{fit_prepared_with_state, visible_depth_after_motion, FitState, FocusResult, FocusSettings, PreparedView};
+use shadowfocus_focus::{
+    fit_prepared_with_state, visible_depth_after_motion, FitState, FocusResult, FocusSettings, PreparedView, ReceiverBoxes,
+};
 use shadowfocus_geom::Camera;
 use shadowfocus_render as render;
 use std::path::Path;
@@ -67,11 +69,14 @@ fn maps_hold_their_bodies(
     aspect: f64,
     opts: &FitOptions,
     mut state: FitState,
-    sdsm: Option<[f64; 2]>,
+    pre: PrePass,
 ) -> Result<bool, String> {
     let (camera, light, bounds) = frame_inputs(scene, frame, aspect)?;
     let mut result = FocusResult::new();
-    let settings = FocusSettings { visible_depth: sdsm, ..opts.settings()? };
+    let mut settings = FocusSettings { visible_depth: pre.visible_depth, ..scene_settings(scene, opts)? };
+    if let Some(r) = pre.receivers {
+        settings.receivers = r;
+    }
     let view = PreparedView::new(&camera, &settings).map_err(|e| e.to_string())?;
     fit_prepared_with_state(&view, &light, &bounds, &mut state, &mut result).map_err(|e| e.to_string())?;
     Ok(result.maps().iter().filter(|m| m.is_active()).all(|m| {
@@ -90,8 +95,10 @@ pub fn animate(o: &AnimateOptions) -> Result<Value, String> {
     if o.frames < 2 {
         return Err("--frames: at least 2 frames are needed to compare one with the next".into());
     }
-    if o.fit.visible_receivers {
-        return Err("--visible-receivers takes a pre-pass of each frame, which animate does not render: use render or sweep".into());
+    if o.fit.visible_receivers && (o.fit.fit_receivers || o.fit.depth_clamp) {
+        return Err(
+            "--visible-receivers takes the boxes a frame late, without what comes into view since: fit the maps to their bodies (no --fit-receivers or --depth-clamp)".into()
+        );
     }
     let scene = render::load_scene(&o.scene).map_err(|e| e.to_string())?;
     let mut renderer = Renderer::from_env().map_err(|e| e.to_string())?;
@@ -113,6 +120,9 @@ pub fn animate(o: &AnimateOptions) -> Result<Value, String> {
     // the range the last frame's main pass reduced, widened by the camera's
     // motion — one frame of latency, as an engine takes it.
     let mut last: Option<([f64; 2], Camera)> = None;
+    // --visible-receivers: the same, the boxes around what the last frame's
+    // main pass saw (they steer the prediction only).
+    let mut last_boxes: Option<ReceiverBoxes> = None;
     let mut uncovered = (0u64, 0usize);
     for k in 0..o.frames {
         let frame = Frame { camera: path_camera(&scene, o.path, k, o.frames), light };
@@ -125,29 +135,29 @@ pub fn animate(o: &AnimateOptions) -> Result<Value, String> {
                 visible_depth_after_motion(*range, then, &now)
             }
         };
-        let (out, _) = render_frame_hinted(
-            &mut renderer,
-            &scene,
-            &frame,
-            &o.fit,
-            o.size,
-            true,
-            Some(&mut state),
-            PrePass { visible_depth: sdsm, receivers: None },
-        )?;
-        if o.fit.sdsm {
-            let (now, _, _) = frame_inputs(&scene, &frame, aspect)?;
-            last = reduced_depth(&out, renderer.adapter().compute).map(|r| (r, now));
-            let c = &out.metrics.coverage;
-            uncovered = (uncovered.0 + c.uncovered, uncovered.1 + usize::from(!c.complete));
+        let receivers = match (o.fit.visible_receivers, last_boxes) {
+            (false, _) => None,
+            (true, Some(b)) => Some(b),
+            (true, None) => PrePass::of(&mut renderer, &scene, &frame, &FitOptions { sdsm: false, ..o.fit.clone() }, o.size)?.receivers,
+        };
+        let pre = PrePass { visible_depth: sdsm, receivers };
+        let (out, _) = render_frame_hinted(&mut renderer, &scene, &frame, &o.fit, o.size, true, Some(&mut state), pre)?;
+        let (now, _, _) = frame_inputs(&scene, &frame, aspect)?;
+        if o.fit.visible_receivers {
+            last_boxes = Some(visible_receiver_boxes(&out, &now)?);
         }
+        if o.fit.sdsm {
+            last = reduced_depth(&out, renderer.adapter().compute).map(|r| (r, now));
+        }
+        let c = &out.metrics.coverage;
+        uncovered = (uncovered.0 + c.uncovered, uncovered.1 + usize::from(!c.complete));
         state_changes += usize::from(k > 0 && state != before);
         let screen = screen::Screen::new(&out)?;
         let truth = out.truth.as_ref().ok_or("the render has no ground truth")?;
         let probes = flicker.get_or_insert_with(|| flicker::Flicker::new(&out, truth, PROBE_STRIDE));
         let seen = probes.frame(&out, &screen);
         crawl.frame(&out, &screen);
-        let holds = maps_hold_their_bodies(&scene, &frame, aspect, &o.fit, before, sdsm)?;
+        let holds = maps_hold_their_bodies(&scene, &frame, aspect, &o.fit, before, pre)?;
         misses += usize::from(!holds);
         let m = &out.metrics;
         p95s.push(m.aliasing.p95);
@@ -180,6 +190,7 @@ pub fn animate(o: &AnimateOptions) -> Result<Value, String> {
         "misses": misses,
         "state_changes": state_changes,
         "sdsm": o.fit.sdsm,
+        "visible_receivers": o.fit.visible_receivers,
         "uncovered_pixels": uncovered.0,
         "uncovered_frames": uncovered.1,
     });
