@@ -37,8 +37,8 @@ const METHODS: [&str; 6] = ["uniform", "psm", "lispsm", "tsm", "auto", "lispsm4"
 const STABLE_METHODS: [&str; 3] = ["uniform-stable", "lispsm-stable", "tsm-stable"];
 /// The single maps checked on the scenes' grounds, at `SMALL_SIZE`.
 const GROUND_METHODS: [&str; 5] = ["uniform", "psm", "lispsm", "tsm", "auto"];
-
-/// Four splits on the visible receivers: each method against the uniform map's.
+/// The four-split methods checked on the visible receivers, each against the
+/// four uniform splits (`uniform4`), at `SMALL_SIZE`.
 const VISIBLE_METHODS: [&str; 5] = ["uniform4", "psm4", "lispsm4", "tsm4", "auto4"];
 /// The four-split methods checked at a smaller image, `SMALL_SIZE`.
 const SMALL_METHODS: [&str; 4] = ["uniform", "lispsm4", "auto4", "auto4-shared"];
