@@ -31,9 +31,13 @@ fn settings(k: usize) -> FocusSettings {
     ][(k / 12) % 5];
     let point = if (k / 60) % 2 == 0 { PointMode::Single } else { PointMode::Cube };
     // Now and then a ground slab as the receivers (any case's scale: it may
-    // miss the scene altogether).
+    // miss the scene altogether), as a solid or as a pre-pass's seen points.
     let slab = Aabb { min: DVec3::new(-50.0, -1.0, -50.0), max: DVec3::new(50.0, 0.0, 50.0) };
-    let receivers = if k % 7 == 3 { ReceiverBoxes::new(&[slab]).unwrap_or_default() } else { ReceiverBoxes::NONE };
+    let receivers = match k % 7 {
+        3 => ReceiverBoxes::new(&[slab]).unwrap_or_default(),
+        5 => ReceiverBoxes::seen(&[slab]).unwrap_or_default(),
+        _ => ReceiverBoxes::NONE,
+    };
     // Now and then a texel budget, of either kind of size, from one map's
     // worth up (stable fits refuse it, with the error both paths must give).
     let texel_budget = (k % 3 == 1).then(|| TexelBudget {

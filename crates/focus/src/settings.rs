@@ -469,7 +469,9 @@ pub struct FocusSettings {
     /// part inside the boxes' bounds, and the predicted aliasing
     /// ([`SplitScheme::Optimal`], [`crate::predict_aliasing`]) takes its
     /// receivers on the boxes. Every shaded receiver must lie in a box;
-    /// casters need not. Empty by default.
+    /// casters need not. An engine that knows no boxes but renders a depth
+    /// pre-pass passes boxes around what it saw ([`crate::VisibleReceivers`],
+    /// [`ReceiverBoxes::seen`]). Empty by default.
     #[cfg_attr(feature = "serde", serde(default))]
     pub receivers: ReceiverBoxes,
     /// The ground of an open scene (a ground and what stands on it, under

@@ -115,7 +115,8 @@ impl VisibleReceivers {
         (s.min, s.max, self.far[k]) = (s.min.min(p), s.max.max(p), self.far[k].max(z));
     }
 
-    /// The slices' boxes, each grown by `margin` on every side (for points
+    /// The slices' boxes (flat neighbours merged, each widened by a pixel at
+    /// its far end), marked as seen points, each grown by `margin` on every side (for points
     /// read back in `f32`: a few ulps of their magnitude, `2⁻²⁰·max|p|`
     /// covers a position computed and stored in `f32`; for points a frame
     /// old, add the most any receiver moved since). No points: no hint.
