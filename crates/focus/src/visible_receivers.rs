@@ -54,7 +54,8 @@ const FLAT: f64 = 1.0 / 256.0;
 
 /// Gathers the visible points of one frame into boxes by view depth; no
 /// allocation. Make one per view ([`VisibleReceivers::new`]), [`add`] every
-/// shaded point, then take [`boxes`].
+/// shaded point (or each slice's reduction, [`VisibleReceivers::add_slice`]),
+/// then take [`boxes`].
 ///
 /// [`add`]: VisibleReceivers::add
 /// [`boxes`]: VisibleReceivers::boxes
@@ -113,6 +114,31 @@ impl VisibleReceivers {
         let k = self.planes.partition_point(|&c| c <= z);
         let s = &mut self.slices[k];
         (s.min, s.max, self.far[k]) = (s.min.min(p), s.max.max(p), self.far[k].max(z));
+    }
+
+    /// The view depths between the slices: slice `k` holds the points of
+    /// depth in `[planes[k − 1], planes[k])`, slice 0 all before
+    /// `planes[0]`, the last all from `planes[14]` on. For an engine that
+    /// reduces its depth buffer into the slices itself (on the GPU) and
+    /// hands them over with [`VisibleReceivers::add_slice`].
+    pub fn slice_planes(&self) -> &[f64; MAX_RECEIVER_BOXES - 1] {
+        &self.planes
+    }
+
+    /// Adds slice `k`'s points as their bounds and greatest view depth, as
+    /// an engine's own reduction gives them: the same as adding each point.
+    /// An error for a slice out of range or bounds or a depth that are not
+    /// finite (or `min > max`).
+    pub fn add_slice(&mut self, k: usize, bounds: Aabb, far: f64) -> Result<(), FocusError> {
+        if k >= MAX_RECEIVER_BOXES || Aabb::new(bounds.min, bounds.max).is_err() || !far.is_finite() {
+            return Err(FocusError::InvalidSettings {
+                what: "receivers",
+                reason: "a visible slice must be one of 16, with finite bounds (min ≤ max) and a finite depth",
+            });
+        }
+        let s = &mut self.slices[k];
+        (s.min, s.max, self.far[k]) = (s.min.min(bounds.min), s.max.max(bounds.max), self.far[k].max(far));
+        Ok(())
     }
 
     /// The slices' boxes (flat neighbours merged, each widened by a pixel at
@@ -305,6 +331,36 @@ mod tests {
         eprintln!("of {} rays, {last} find their receiver within a slice of their point; {whole} with one box", pts.len());
         // NOTE: measured 67 % against 52 %.
         assert!(last * 5 >= pts.len() * 3 && last * 20 >= whole * 23, "{last} and {whole} of {}", pts.len());
+    }
+
+    #[test]
+    fn slices_reduced_elsewhere_give_the_boxes_of_their_points() {
+        // A terrain's points added one by one, and the same points reduced
+        // per slice (by the planes given out) and added as slices: the same
+        // boxes, bit for bit. Bad slices are refused.
+        let cam = camera();
+        let pts = pixels(&cam, |x, z| 0.7 * (0.4 * x).sin() * (0.3 * z).cos() - 1.0);
+        let mut one = VisibleReceivers::new(&cam, HEIGHT).unwrap();
+        let mut reduced = [(Aabb { min: DVec3::INFINITY, max: DVec3::NEG_INFINITY }, f64::NEG_INFINITY); MAX_RECEIVER_BOXES];
+        let f = cam.basis().unwrap().forward;
+        for p in &pts {
+            one.add(*p);
+            let z = (*p - cam.eye).dot(f);
+            let k = one.slice_planes().iter().filter(|&&c| c <= z).count();
+            let (b, far) = &mut reduced[k];
+            (b.min, b.max, *far) = (b.min.min(*p), b.max.max(*p), far.max(z));
+        }
+        let mut sliced = VisibleReceivers::new(&cam, HEIGHT).unwrap();
+        for (k, (b, far)) in reduced.iter().enumerate().filter(|(_, (b, _))| b.min.x <= b.max.x) {
+            sliced.add_slice(k, *b, *far).unwrap();
+        }
+        let (a, b) = (one.boxes(0.0).unwrap(), sliced.boxes(0.0).unwrap());
+        assert!(a.as_slice().len() > 4);
+        assert_eq!(a, b);
+        let unit = Aabb { min: DVec3::ZERO, max: DVec3::ONE };
+        for (k, b, far) in [(16, unit, 1.0), (0, Aabb { min: DVec3::ONE, max: DVec3::ZERO }, 1.0), (0, unit, f64::NAN)] {
+            assert!(sliced.add_slice(k, b, far).unwrap_err().to_string().contains("slice"));
+        }
     }
 
     #[test]
