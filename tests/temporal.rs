@@ -66,6 +66,24 @@ fn run_method(scene: &str, light: Option<LightOverride>, method: Method, stable:
     summary
 }
 
+/// The robot war's 24-frame orbit animated with `fit`, in a folder named
+/// by `tag`: the summary, or animate's refusal.
+fn robot_war_orbit(fit: FitOptions, tag: &str) -> Result<serde_json::Value, String> {
+    let out = std::env::temp_dir().join(format!("shadowfocus-temporal-{}-{tag}", std::process::id()));
+    let o = AnimateOptions {
+        scene: "robot-war".into(),
+        path: CameraPath::Orbit,
+        frames: 24,
+        size: (320, 180),
+        light: None,
+        fit,
+        out: out.clone(),
+    };
+    let summary = animate(&o);
+    let _ = std::fs::remove_dir_all(&out);
+    summary
+}
+
 #[test]
 fn stable_uniform_maps_hold_still_where_plain_ones_flicker() {
     let _one = GPU.lock().unwrap_or_else(|e| e.into_inner());
@@ -132,19 +150,7 @@ fn visible_receivers_a_frame_old_lower_p95_on_an_orbit() {
     let run = |visible_receivers: bool, fit_receivers: bool| {
         let fit =
             FitOptions { method: Method::Auto, splits: 4, resolution: 512, visible_receivers, fit_receivers, ..FitOptions::default() };
-        let out = std::env::temp_dir().join(format!("shadowfocus-temporal-{}-visible-{visible_receivers}", std::process::id()));
-        let o = AnimateOptions {
-            scene: "robot-war".into(),
-            path: CameraPath::Orbit,
-            frames: 24,
-            size: (320, 180),
-            light: None,
-            fit,
-            out: out.clone(),
-        };
-        let summary = animate(&o);
-        let _ = std::fs::remove_dir_all(&out);
-        summary
+        robot_war_orbit(fit, &format!("visible-{visible_receivers}"))
     };
     let (plain, visible) = (run(false, false).unwrap(), run(true, false).unwrap());
     eprintln!("plain {plain}\nvisible {visible}");
@@ -171,19 +177,7 @@ fn the_visible_depth_hint_with_a_frame_of_latency_covers_an_orbit() {
     let run = |sdsm: bool, sdsm_coverage: DepthHintCoverage| {
         let scheme = (!sdsm).then(|| "practical".to_string());
         let fit = FitOptions { method: Method::Lispsm, splits: 4, resolution: 512, sdsm, sdsm_coverage, scheme, ..FitOptions::default() };
-        let out = std::env::temp_dir().join(format!("shadowfocus-temporal-{}-sdsm-{sdsm}-{sdsm_coverage:?}", std::process::id()));
-        let o = AnimateOptions {
-            scene: "robot-war".into(),
-            path: CameraPath::Orbit,
-            frames: 24,
-            size: (320, 180),
-            light: None,
-            fit,
-            out: out.clone(),
-        };
-        let summary = animate(&o).unwrap();
-        std::fs::remove_dir_all(&out).unwrap();
-        summary
+        robot_war_orbit(fit, &format!("sdsm-{sdsm}-{sdsm_coverage:?}")).unwrap()
     };
     let (plain, hinted, covering) =
         (run(false, DepthHintCoverage::Hint), run(true, DepthHintCoverage::Hint), run(true, DepthHintCoverage::View));
