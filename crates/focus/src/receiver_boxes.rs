@@ -121,13 +121,15 @@ impl ReceiverBoxes {
     /// checked and merged as [`ReceiverBoxes::new`] does: each camera ray's
     /// receiver is taken where it leaves the last box it passes through,
     /// not where it first meets one (see the module docs).
+    /// No boxes are no hint, [`ReceiverBoxes::NONE`].
     pub fn seen(boxes: &[Aabb]) -> Result<ReceiverBoxes, FocusError> {
-        Ok(ReceiverBoxes { seen: true, ..ReceiverBoxes::new(boxes)? })
+        Ok(ReceiverBoxes::new(boxes)?.into_seen())
     }
 
-    /// The same boxes, marked as [`ReceiverBoxes::seen`]'s.
+    /// The same boxes, marked as [`ReceiverBoxes::seen`]'s (none stay
+    /// [`ReceiverBoxes::NONE`]).
     pub(crate) fn into_seen(self) -> ReceiverBoxes {
-        ReceiverBoxes { seen: true, ..self }
+        ReceiverBoxes { seen: self.len > 0, ..self }
     }
 
     /// Whether the boxes hold seen points ([`ReceiverBoxes::seen`]) rather

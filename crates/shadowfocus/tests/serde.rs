@@ -79,6 +79,8 @@ fn receiver_boxes_keep_their_kind() {
     assert!(round_trip(&seen).is_seen() && !round_trip(&solid).is_seen());
     let settings = FocusSettings { receivers: seen, ..FocusSettings::default() };
     assert_eq!(round_trip(&settings), settings);
+    assert_eq!(serde_json::from_str::<ReceiverBoxes>(r#"{"seen": []}"#).unwrap(), ReceiverBoxes::NONE, "no boxes: no hint");
+    assert_eq!(ReceiverBoxes::seen(&[]).unwrap(), ReceiverBoxes::NONE);
     let bad = r#"{"seen": [{"min": [0, 0, 0], "max": [1, -1, 1]}]}"#;
     let err = serde_json::from_str::<ReceiverBoxes>(bad).unwrap_err();
     assert!(err.to_string().contains("receiver box"), "{err}");
