@@ -212,6 +212,17 @@ impl PrePass {
             receivers: if opts.visible_receivers { Some(visible_receiver_boxes(&out, &camera)?) } else { None },
         })
     }
+
+    /// The settings of `opts` for `scene` ([`scene_settings`]) with these
+    /// hints; refused where `opts` asks for visible receivers and there are
+    /// none.
+    pub fn settings(&self, scene: &Scene, opts: &FitOptions) -> Result<FocusSettings, String> {
+        if opts.visible_receivers && self.receivers.is_none() {
+            return Err("--visible-receivers takes its boxes from a pre-pass of the frame, and none was rendered".into());
+        }
+        let settings = scene_settings(scene, opts)?;
+        Ok(FocusSettings { visible_depth: self.visible_depth, receivers: self.receivers.unwrap_or(settings.receivers), ..settings })
+    }
 }
 
 /// The visible depth range of a rendered frame, widened for its f32
@@ -304,15 +315,8 @@ pub fn render_frame_hinted(
     state: Option<&mut FitState>,
     pre: PrePass,
 ) -> Result<(render::RenderOutput, Value), String> {
-    let mut settings = scene_settings(scene, opts)?;
-    if opts.visible_receivers && pre.receivers.is_none() {
-        return Err("--visible-receivers takes its boxes from a pre-pass of the frame, and none was rendered".into());
-    }
+    let settings = pre.settings(scene, opts)?;
     let sdsm = pre.visible_depth;
-    settings.visible_depth = sdsm;
-    if let Some(r) = pre.receivers {
-        settings.receivers = r;
-    }
     // NOTE: the renderer is wgpu: clip depth in [0, 1] (reversed-Z maps
     // render through their greater test), and clamping where the adapter
     // has it. Anything else would render wrong shadows, so it is refused.

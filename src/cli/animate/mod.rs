@@ -15,12 +15,10 @@ pub use path::{parse_path, path_camera, CameraPath};
 
 use super::fit::FitOptions;
 use super::overrides::{parse_light, Frame, LightOverride};
-use super::render::{frame_inputs, reduced_depth, render_frame_hinted, scene_settings, visible_depth, visible_receiver_boxes, PrePass};
+use super::render::{frame_inputs, reduced_depth, render_frame_hinted, visible_depth, visible_receiver_boxes, PrePass};
 use render::{contact_sheet, Image, Renderer, Scene};
 use serde_json::{json, Value};
-use shadowfocus_focus::{
-    fit_prepared_with_state, visible_depth_after_motion, FitState, FocusResult, FocusSettings, PreparedView, ReceiverBoxes,
-};
+use shadowfocus_focus::{fit_prepared_with_state, visible_depth_after_motion, FitState, FocusResult, PreparedView, ReceiverBoxes};
 use shadowfocus_geom::Camera;
 use shadowfocus_render as render;
 use std::path::Path;
@@ -73,10 +71,7 @@ fn maps_hold_their_bodies(
 ) -> Result<bool, String> {
     let (camera, light, bounds) = frame_inputs(scene, frame, aspect)?;
     let mut result = FocusResult::new();
-    let mut settings = FocusSettings { visible_depth: pre.visible_depth, ..scene_settings(scene, opts)? };
-    if let Some(r) = pre.receivers {
-        settings.receivers = r;
-    }
+    let settings = pre.settings(scene, opts)?;
     let view = PreparedView::new(&camera, &settings).map_err(|e| e.to_string())?;
     fit_prepared_with_state(&view, &light, &bounds, &mut state, &mut result).map_err(|e| e.to_string())?;
     Ok(result.maps().iter().filter(|m| m.is_active()).all(|m| {
