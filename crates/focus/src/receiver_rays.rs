@@ -116,7 +116,7 @@ pub(crate) fn box_receiver(boxes: &ReceiverBoxes, eye: DVec3, d: DVec3, near: f6
 /// The farthest point of `boxes` on the ray `eye + z·d`, `z ∈ [near, far]`:
 /// the index of the box the ray leaves last, and the depth and axis of
 /// the face it leaves through (no axis where it is still inside at `far`).
-pub(crate) fn last_box(boxes: &[Aabb], eye: DVec3, d: DVec3, near: f64, far: f64) -> Option<(usize, f64, Option<usize>)> {
+fn last_box(boxes: &[Aabb], eye: DVec3, d: DVec3, near: f64, far: f64) -> Option<(usize, f64, Option<usize>)> {
     crossed(boxes, eye, d, near, far).map(|(k, x)| (k, x.depth, x.axis)).max_by(|a, b| a.1.total_cmp(&b.1))
 }
 
@@ -124,7 +124,7 @@ pub(crate) fn last_box(boxes: &[Aabb], eye: DVec3, d: DVec3, near: f64, far: f64
 /// index, and the depth and axis of the face the ray enters it through, or
 /// leaves it through where it starts inside (no axis where it is still
 /// inside at `far`).
-pub(crate) fn first_box(boxes: &[Aabb], eye: DVec3, d: DVec3, near: f64, far: f64) -> Option<(usize, f64, Option<usize>)> {
+fn first_box(boxes: &[Aabb], eye: DVec3, d: DVec3, near: f64, far: f64) -> Option<(usize, f64, Option<usize>)> {
     crossed(boxes, eye, d, near, far)
         .map(|(k, x)| match x.entry_axis {
             Some(axis) => (k, x.entry, Some(axis)),
