@@ -132,30 +132,6 @@ fn request<'a>(
     req
 }
 
-/// The view depths `[z_min, z_max]` of every pixel that sees geometry,
-/// reduced from a pre-pass of the same frame (sample-distribution shadow
-/// maps [SDSM10]: the hint of `FocusSettings::visible_depth`); `None` when
-/// no pixel does.
-///
-/// The range is reduced on the GPU (a compute pass over the G-buffer), or
-/// on the CPU from the read-back positions where the adapter has no compute
-/// shaders.
-///
-/// NOTE: the main pass computes a pixel's position in f32, and the
-/// reduction its depth in f32: a few ulps of |eye| + depth off the f64
-/// depth of the same point. The range is widened by 2⁻¹⁶ of that
-/// magnitude, far above those ulps.
-pub(crate) fn visible_depth(
-    renderer: &mut Renderer,
-    scene: &Scene,
-    frame: &Frame,
-    settings: &FocusSettings,
-    size: (u32, u32),
-) -> Result<Option<[f64; 2]>, String> {
-    let out = pre_pass(renderer, scene, frame, settings, size)?;
-    Ok(reduced_depth(&out, renderer.adapter().compute))
-}
-
 /// A pre-pass of `frame`: what each pixel sees (its shadows coarse, no
 /// ground truth).
 fn pre_pass(
@@ -225,9 +201,16 @@ impl PrePass {
     }
 }
 
-/// The visible depth range of a rendered frame, widened for its f32
-/// rounding (see [`visible_depth`]): the GPU's reduction where the adapter
-/// has compute shaders (`compute`), else the CPU's.
+/// The view depths `[z_min, z_max]` of every pixel of a rendered frame
+/// that sees geometry (sample-distribution shadow maps [SDSM10]: the hint
+/// of `FocusSettings::visible_depth`), `None` when no pixel does: the GPU's
+/// reduction (a compute pass over the G-buffer) where the adapter has
+/// compute shaders (`compute`), else the CPU's of the read-back positions.
+///
+/// NOTE: the main pass computes a pixel's position in f32, and the
+/// reduction its depth in f32: a few ulps of |eye| + depth off the f64
+/// depth of the same point. The range is widened by 2⁻¹⁶ of that
+/// magnitude, far above those ulps.
 pub(crate) fn reduced_depth(out: &render::RenderOutput, compute: bool) -> Option<[f64; 2]> {
     let c = &out.camera;
     let [lo, hi] = match out.visible_depth {

@@ -15,7 +15,7 @@ pub use path::{parse_path, path_camera, CameraPath};
 
 use super::fit::FitOptions;
 use super::overrides::{parse_light, Frame, LightOverride};
-use super::render::{frame_inputs, reduced_depth, render_frame_hinted, visible_depth, visible_receiver_boxes, PrePass};
+use super::render::{frame_inputs, reduced_depth, render_frame_hinted, visible_receiver_boxes, PrePass};
 use render::{contact_sheet, Image, Renderer, Scene};
 use serde_json::{json, Value};
 use shadowfocus_focus::{fit_prepared_with_state, visible_depth_after_motion, FitState, FocusResult, PreparedView, ReceiverBoxes};
@@ -121,23 +121,26 @@ pub fn animate(o: &AnimateOptions) -> Result<Value, String> {
     let mut uncovered = (0u64, 0usize);
     for k in 0..o.frames {
         let frame = Frame { camera: path_camera(&scene, o.path, k, o.frames), light };
+        let (now, _, _) = frame_inputs(&scene, &frame, aspect)?;
         let before = state;
+        // A pre-pass of this frame where a hint has no earlier frame's to go by.
+        let fresh = if (o.fit.sdsm && last.is_none()) || (o.fit.visible_receivers && last_boxes.is_none()) {
+            PrePass::of(&mut renderer, &scene, &frame, &o.fit, o.size)?
+        } else {
+            PrePass::default()
+        };
         let sdsm = match (o.fit.sdsm, &last) {
             (false, _) => None,
-            (true, None) => visible_depth(&mut renderer, &scene, &frame, &o.fit.settings()?, o.size)?,
-            (true, Some((range, then))) => {
-                let (now, _, _) = frame_inputs(&scene, &frame, aspect)?;
-                visible_depth_after_motion(*range, then, &now)
-            }
+            (true, None) => fresh.visible_depth,
+            (true, Some((range, then))) => visible_depth_after_motion(*range, then, &now),
         };
         let receivers = match (o.fit.visible_receivers, last_boxes) {
             (false, _) => None,
             (true, Some(b)) => Some(b),
-            (true, None) => PrePass::of(&mut renderer, &scene, &frame, &FitOptions { sdsm: false, ..o.fit.clone() }, o.size)?.receivers,
+            (true, None) => fresh.receivers,
         };
         let pre = PrePass { visible_depth: sdsm, receivers };
         let (out, _) = render_frame_hinted(&mut renderer, &scene, &frame, &o.fit, o.size, true, Some(&mut state), pre)?;
-        let (now, _, _) = frame_inputs(&scene, &frame, aspect)?;
         if o.fit.visible_receivers {
             last_boxes = Some(visible_receiver_boxes(&out, &now)?);
         }
