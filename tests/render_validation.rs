@@ -8,7 +8,10 @@ use glam::DVec3;
 use shadowfocus_cli::cli::fit::FitOptions;
 use shadowfocus_cli::cli::render::{builtin_ground, demo_configs, fit_scene, scene_settings};
 use shadowfocus_cli::cli::sweep::{ADEQUATE_LIMIT, MIN_ADEQUATE_PIXELS};
-use shadowfocus_cli::focus::{fit, BoxFace, ClipConvention, FocusResult, FocusSettings, Footprint, Ground, Method, PointMode, SplitScheme};
+use shadowfocus_cli::focus::{
+    fit, BoxFace, ClipConvention, FocusResult, FocusSettings, Footprint, Ground, Method, PointMode, SplitScheme, VisibleReceivers,
+};
+use shadowfocus_cli::geom::Aabb;
 use shadowfocus_cli::render::{
     builtin_scene, DepthTest, LightSpec, RenderMetrics, RenderOutput, RenderRequest, Renderer, Scene, ShadowMapSpec,
 };
@@ -626,6 +629,67 @@ fn the_gpu_reduces_the_visible_depth_range_as_the_cpu_does() {
             assert!((gpu[k] as f64 - cpu[k]).abs() <= tol, "{name}: GPU {gpu:?}, CPU {cpu:?}");
         }
         assert!(cpu[0] >= out.camera.near * (1.0 - 1e-6) && cpu[1] <= out.camera.far * (1.0 + 1e-6), "{name}: {cpu:?}");
+    }
+}
+
+#[test]
+fn the_gpu_reduces_the_visible_receivers_as_the_cpu_does() {
+    // Every built-in scene, rendered as `--visible-receivers` renders it:
+    // the compute pass's slices against the read-back receiver pixels. The
+    // slices' bounds together are the pixels' bounds bit for bit (min and
+    // max round nothing); each pixel lies in the slice its f64 depth falls
+    // in, or, within the f32 rounding of a depth of a plane, in the slice
+    // beside it; each slice's greatest depth lies in its depth range and is
+    // a pixel's; the boxes from the slices hold every pixel.
+    let mut guard = RENDERER.lock().unwrap_or_else(|e| e.into_inner());
+    let renderer = guard.get_or_insert_with(|| Renderer::from_env().expect("a wgpu adapter (llvmpipe on a fresh machine)"));
+    assert!(renderer.adapter().compute, "{:?}", renderer.adapter());
+    let opts = FitOptions { method: Method::Auto, splits: 4, resolution: RES / 2, visible_receivers: true, ..FitOptions::default() };
+    for name in shadowfocus_cli::render::BUILTIN_SCENES {
+        let s = scene(name);
+        let frame = shadowfocus_cli::cli::overrides::Frame::of(&s);
+        let (out, _) = shadowfocus_cli::cli::render::render_frame(renderer, &s, &frame, &opts, SIZE, false, None).unwrap();
+        let slices = out.receiver_slices.unwrap_or_else(|| panic!("{name}: no receiver slices from the GPU"));
+        let (camera, _, _) = shadowfocus_cli::cli::render::frame_inputs(&s, &frame, SIZE.0 as f64 / SIZE.1 as f64).unwrap();
+        let planes = VisibleReceivers::new(&camera, SIZE.1).unwrap().slice_planes().to_vec();
+        let forward = camera.forward.normalize();
+        let points: Vec<DVec3> =
+            out.world.iter().filter(|w| w[3] == 1.0).map(|w| DVec3::new(w[0] as f64, w[1] as f64, w[2] as f64)).collect();
+        assert!(points.len() > 1000, "{name}: {} receiver pixels", points.len());
+        let filled: Vec<(usize, Aabb, f64)> = slices
+            .iter()
+            .enumerate()
+            .filter_map(|(k, s)| s.map(|s| (k, Aabb { min: s.min.map(f64::from).into(), max: s.max.map(f64::from).into() }, s.far as f64)))
+            .collect();
+        let bounds = |b: &mut Aabb, p: DVec3, q: DVec3| (b.min, b.max) = (b.min.min(p), b.max.max(q));
+        let empty = Aabb { min: DVec3::INFINITY, max: DVec3::NEG_INFINITY };
+        let (mut all, mut of_slices) = (empty, empty);
+        points.iter().for_each(|&p| bounds(&mut all, p, p));
+        filled.iter().for_each(|(_, b, _)| bounds(&mut of_slices, b.min, b.max));
+        assert_eq!(all, of_slices, "{name}: the slices' bounds are not the pixels'");
+        let depth_tol = |z: f64| 8.0 * f32::EPSILON as f64 * (camera.eye.length() + z.abs());
+        let holds = |k: usize, p: DVec3| filled.iter().any(|(j, b, _)| *j == k && b.contains(p));
+        for &p in &points {
+            let z = (p - camera.eye).dot(forward);
+            let k = planes.partition_point(|&c| c <= z);
+            let beside = |j: usize| planes.get(j).is_some_and(|&c| (z - c).abs() <= depth_tol(z));
+            let found = holds(k, p) || (k > 0 && beside(k - 1) && holds(k - 1, p)) || (beside(k) && holds(k + 1, p));
+            assert!(found, "{name}: the pixel at {p} (depth {z}, slice {k}) is in no slice it may fall in");
+        }
+        let depths: Vec<f64> = points.iter().map(|&p| (p - camera.eye).dot(forward)).collect();
+        for (k, _, far) in &filled {
+            let (lo, hi) = (if *k == 0 { f64::NEG_INFINITY } else { planes[k - 1] }, planes.get(*k).copied().unwrap_or(f64::INFINITY));
+            assert!(
+                *far >= lo - depth_tol(*far) && *far <= hi + depth_tol(*far),
+                "{name}: slice {k}'s far depth {far} outside [{lo}, {hi})"
+            );
+            assert!(depths.iter().any(|z| (z - far).abs() <= depth_tol(*far)), "{name}: slice {k}'s far depth {far} is no pixel's");
+        }
+        let boxes = shadowfocus_cli::cli::render::visible_receiver_boxes(&out, &camera).unwrap();
+        assert!(boxes.is_seen(), "{name}");
+        for &p in &points {
+            assert!(boxes.as_slice().iter().any(|b| b.contains(p)), "{name}: the pixel at {p} is in no box");
+        }
     }
 }
 

@@ -133,24 +133,48 @@ fn request<'a>(
 }
 
 /// A pre-pass of `frame`: what each pixel sees (its shadows coarse, no
-/// ground truth).
+/// ground truth), its receivers reduced into the slices between `slices`
+/// where given.
 fn pre_pass(
     renderer: &mut Renderer,
     scene: &Scene,
     frame: &Frame,
     settings: &FocusSettings,
     size: (u32, u32),
+    slices: Option<ReceiverSlicePlanes>,
 ) -> Result<render::RenderOutput, String> {
     let aspect = size.0 as f64 / size.1 as f64;
     let (specs, _, _) = fit_frame(scene, frame, aspect, settings, None)?;
     let mut req = request(scene, frame, &specs, size, 64, settings);
     (req.settings.ground_truth, req.settings.save_shadow_maps) = (false, false);
+    req.settings.receiver_slices = slices;
     renderer.render(&req).map_err(|e| e.to_string())
+}
+
+/// The view depths between the slices a frame's receivers are reduced into.
+type ReceiverSlicePlanes = [f32; render::RECEIVER_SLICES - 1];
+
+// The renderer's slices are the library's visible receiver boxes' slices.
+const _: () = assert!(render::RECEIVER_SLICES == shadowfocus_focus::MAX_RECEIVER_BOXES);
+
+/// The planes between [`VisibleReceivers`]' slices of `camera`'s view, for
+/// the renderer's reduction of a `height`-pixel frame.
+///
+/// NOTE: in f32 a plane moves by an ulp of its depth, and the GPU computes
+/// a pixel's depth in f32: a point within ulps of a plane may fall in the
+/// slice beside the one `VisibleReceivers::add` gives it. Either box holds
+/// it, so the boxes' union still holds every receiver pixel.
+pub fn receiver_slice_planes(camera: &Camera, height: u32) -> Result<ReceiverSlicePlanes, String> {
+    let v = VisibleReceivers::new(camera, height).map_err(|e| e.to_string())?;
+    Ok(v.slice_planes().map(|p| p as f32))
 }
 
 /// Boxes around the receivers a rendered frame shows (the pixels its
 /// aliasing statistics count), sliced by view depth
-/// ([`VisibleReceivers`]); no hint where no pixel shows a receiver.
+/// ([`VisibleReceivers`]); no hint where no pixel shows a receiver. The
+/// GPU's reduction into the slices where the frame was rendered with
+/// [`receiver_slice_planes`] of `camera` and the adapter has compute
+/// shaders, else the CPU's of the read-back positions.
 ///
 /// NOTE: the positions are the main pass's, interpolated in f32; each box
 /// is widened by 2⁻¹⁶ of the largest coordinate, far above their rounding
@@ -158,11 +182,33 @@ fn pre_pass(
 /// they also bound the maps, and this frame's own pre-pass holds every
 /// receiver the frame shades).
 pub fn visible_receiver_boxes(out: &render::RenderOutput, camera: &Camera) -> Result<ReceiverBoxes, String> {
+    let v = match &out.receiver_slices {
+        Some(slices) => gpu_visible_receivers(slices, camera, out.height)?,
+        None => cpu_visible_receivers(out, camera)?,
+    };
+    v.boxes(v.magnitude() / 65536.0).map_err(|e| e.to_string())
+}
+
+/// The visible receivers of the GPU's slices of a frame of `camera`.
+fn gpu_visible_receivers(slices: &[Option<render::ReceiverSlice>], camera: &Camera, height: u32) -> Result<VisibleReceivers, String> {
+    let mut v = VisibleReceivers::new(camera, height).map_err(|e| e.to_string())?;
+    let dvec = |p: [f32; 3]| glam::DVec3::from(p.map(f64::from));
+    for (k, s) in slices.iter().enumerate() {
+        if let Some(s) = s {
+            v.add_slice(k, Aabb { min: dvec(s.min), max: dvec(s.max) }, s.far as f64).map_err(|e| e.to_string())?;
+        }
+    }
+    Ok(v)
+}
+
+/// The visible receivers of a frame's read-back receiver pixels (for
+/// adapters without compute shaders, and to check the GPU's).
+pub fn cpu_visible_receivers(out: &render::RenderOutput, camera: &Camera) -> Result<VisibleReceivers, String> {
     let mut v = VisibleReceivers::new(camera, out.height).map_err(|e| e.to_string())?;
     for w in out.world.iter().filter(|w| w[3] == 1.0) {
         v.add(glam::DVec3::new(w[0] as f64, w[1] as f64, w[2] as f64));
     }
-    v.boxes(v.magnitude() / 65536.0).map_err(|e| e.to_string())
+    Ok(v)
 }
 
 /// What a depth pre-pass of a frame gives its fit: the visible depth range
@@ -181,8 +227,9 @@ impl PrePass {
         if !(opts.sdsm || opts.visible_receivers) {
             return Ok(PrePass::default());
         }
-        let out = pre_pass(renderer, scene, frame, &opts.settings()?, size)?;
         let (camera, _, _) = frame_inputs(scene, frame, size.0 as f64 / size.1 as f64)?;
+        let slices = if opts.visible_receivers { Some(receiver_slice_planes(&camera, size.1)?) } else { None };
+        let out = pre_pass(renderer, scene, frame, &opts.settings()?, size, slices)?;
         Ok(PrePass {
             visible_depth: if opts.sdsm { reduced_depth(&out, renderer.adapter().compute) } else { None },
             receivers: if opts.visible_receivers { Some(visible_receiver_boxes(&out, &camera)?) } else { None },
@@ -320,6 +367,11 @@ pub fn render_frame_hinted(
         req.utilisation = &utilisation;
     }
     req.settings.save_shadow_maps = maps;
+    // The frame's own receivers, for a later frame's hint (`animate`).
+    if opts.visible_receivers {
+        let (camera, _, _) = frame_inputs(scene, frame, aspect)?;
+        req.settings.receiver_slices = Some(receiver_slice_planes(&camera, size.1)?);
+    }
     let out = renderer.render(&req).map_err(|e| e.to_string())?;
     // Each map's predicted maximum in screen pixels per texel, beside the
     // measured `map_aliasing_max` (receivers facing the camera: a receiver

@@ -100,6 +100,15 @@ pub struct DepthMap {
     pub linear: bool,
 }
 
+/// The receiver pixels of one slice of the view, reduced on the GPU: their world positions'
+/// bounds and their greatest view depth (f32, from the main pass's f32 positions).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ReceiverSlice {
+    pub min: [f32; 3],
+    pub max: [f32; 3],
+    pub far: f32,
+}
+
 /// Everything a render produced, per pixel (rows top to bottom) and summarised.
 #[derive(Clone, Debug)]
 pub struct RenderOutput {
@@ -125,6 +134,11 @@ pub struct RenderOutput {
     /// (f32, from the main pass's f32 positions); `None` where the adapter has no compute
     /// shaders or no pixel sees geometry.
     pub visible_depth: Option<[f32; 2]>,
+    /// The receiver pixels (`world`'s w = 1) reduced on the GPU into the slices of the view that
+    /// [`crate::RenderSettings::receiver_slices`] asked for, each slice's `None` where no receiver
+    /// pixel falls in it; `None` where they were not asked for or the adapter has no compute
+    /// shaders.
+    pub receiver_slices: Option<[Option<ReceiverSlice>; crate::types::RECEIVER_SLICES]>,
     /// The scene's surface offset (`Scene::surface_offset`): the main pass looked each pixel's
     /// point up lifted off its surface by this much.
     pub surface_offset: f64,

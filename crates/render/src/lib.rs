@@ -40,7 +40,7 @@ mod types;
 mod uniforms;
 
 pub use error::RenderError;
-pub use frame::{DepthMap, RenderOutput, RenderRequest};
+pub use frame::{DepthMap, ReceiverSlice, RenderOutput, RenderRequest};
 pub use gltf_scene::{default_camera, default_light, load_gltf, load_scene, GltfReport};
 pub use gpu::{AdapterSummary, BackendChoice, BACKEND_ENV};
 pub use ground_truth::{GroundTruth, Visibility};
@@ -51,4 +51,7 @@ pub use renderer::{render_scene, Renderer};
 pub use scene::{Scene, SceneObject, Vertex};
 pub use scenes::{builtin_scene, BUILTIN_SCENES};
 pub use stats::{AliasingStats, CasterStats, CoverageStats, MismatchStats, RenderMetrics, ADEQUATE_ALIASING};
-pub use types::{Bounds, CameraSpec, CubeFaceSpec, DepthMode, DepthTest, EyeBlur, LightSpec, Pcf, RenderSettings, ShadowMapSpec, MAX_MAPS};
+pub use types::{
+    Bounds, CameraSpec, CubeFaceSpec, DepthMode, DepthTest, EyeBlur, LightSpec, Pcf, RenderSettings, ShadowMapSpec, MAX_MAPS,
+    RECEIVER_SLICES,
+};

@@ -331,6 +331,7 @@ mod tests {
             truth: Some(truth.clone()),
             shadow_maps: Vec::new(),
             visible_depth: None,
+            receiver_slices: None,
             surface_offset: 0.0,
             camera: cam,
             light: LightSpec::Directional { direction: DVec3::Z },

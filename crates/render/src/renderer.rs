@@ -466,7 +466,8 @@ impl Renderer {
             let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("reduce") });
             let c = &req.camera;
             let f = c.forward.normalize();
-            let reduced = r.encode(device, &mut enc, &main.targets.world, (s.width, s.height), c.eye.as_vec3().into(), f.as_vec3().into());
+            let (eye, forward) = (c.eye.as_vec3().into(), f.as_vec3().into());
+            let reduced = r.encode(device, &mut enc, &main.targets.world, (s.width, s.height), eye, forward, s.receiver_slices.as_ref());
             self.gpu.queue.submit([enc.finish()]);
             reduced
         });

@@ -384,6 +384,11 @@ pub struct RenderSettings {
     pub edge_radius: u32,
     /// Run the GPU passes this many times and report the fastest (≥ 1).
     pub timing_repeats: u32,
+    /// The view depths between [`RECEIVER_SLICES`] slices of the view, ascending: reduce the
+    /// receiver pixels' world positions into each slice's bounds and greatest depth on the GPU
+    /// ([`crate::RenderOutput::receiver_slices`]; slice `k` holds the depths in
+    /// `[planes[k − 1], planes[k])`). `None`: no such reduction.
+    pub receiver_slices: Option<[f32; RECEIVER_SLICES - 1]>,
 }
 
 impl Default for RenderSettings {
@@ -401,12 +406,17 @@ impl Default for RenderSettings {
             ground_truth: true,
             edge_radius: 2,
             timing_repeats: 1,
+            receiver_slices: None,
         }
     }
 }
 
 /// Largest number of shadow maps per frame.
 pub const MAX_MAPS: usize = 16;
+
+/// Slices of the view the receiver pixels are reduced into
+/// ([`RenderSettings::receiver_slices`]): as many as the focus library's visible receiver boxes.
+pub const RECEIVER_SLICES: usize = 16;
 
 impl RenderSettings {
     pub fn validate(&self) -> Result<(), RenderError> {
@@ -440,6 +450,12 @@ impl RenderSettings {
         }
         if self.edge_radius > 16 {
             return Err(RenderError::invalid("edge radius", "must be ≤ 16"));
+        }
+        if let Some(planes) = &self.receiver_slices {
+            check_finite("receiver slice planes", &planes.map(f64::from))?;
+            if planes.windows(2).any(|p| p[0] > p[1]) {
+                return Err(RenderError::invalid("receiver slice planes", "must ascend"));
+            }
         }
         Ok(())
     }

@@ -378,6 +378,15 @@ fn bad_requests_are_typed_errors() {
         let err = RenderRequest::new(&scene, &sized).validate().unwrap_err().to_string();
         assert!(err.contains("shadow map 0 resolution"), "{err}");
     }
+    let ascending: [f32; RECEIVER_SLICES - 1] = std::array::from_fn(|k| 1.0 + k as f32);
+    for (k, bad) in [(3, f32::NAN), (7, f32::INFINITY), (9, 0.5)] {
+        let mut req = RenderRequest::new(&scene, &maps);
+        req.settings.receiver_slices = Some(ascending);
+        assert!(req.validate().is_ok());
+        req.settings.receiver_slices.as_mut().unwrap()[k] = bad;
+        let err = req.validate().unwrap_err().to_string();
+        assert!(err.contains("receiver slice planes"), "{err}");
+    }
     let many = vec![good; MAX_MAPS + 1];
     assert!(RenderRequest::new(&scene, &many).validate().is_err());
     assert!(BackendChoice::parse("metal").is_err());

@@ -4,7 +4,8 @@
 //! 2. [`gbuffer`]: world position, normal, albedo, shadow term, aliasing and the map each pixel
 //!    used, into integer and float targets;
 //! 3. [`post`]: the eye-space blur of the shadow term [SCH05 §4.3] and the lit composite;
-//! 4. [`reduce`]: the visible depth range, where the adapter has compute shaders;
+//! 4. [`reduce`]: the visible depth range and the receivers' slices, where the adapter has
+//!    compute shaders;
 //! 5. [`readback`]: the targets back into memory, decoded per pixel.
 //!
 //! Each pass creates what it needs for one frame in `new` and records itself into a command

@@ -2,7 +2,7 @@
 //! with 256-byte row alignment, mapped together, and decoded per pixel.
 
 use super::gbuffer::Targets;
-use super::reduce::{decode, Reduced};
+use super::reduce::{decode, decode_slices, Reduced, SLICES_BYTES};
 use super::shadow::ShadowPass;
 use crate::error::RenderError;
 use crate::frame::{DepthMap, RenderOutput, RenderRequest};
@@ -31,6 +31,7 @@ pub(crate) fn read_frame(
     let i_vis = blurred.then(|| rb.add(device, &mut enc, &t.vis[1], 0, w, h, 2));
     let i_color = rb.add(device, &mut enc, &t.color, 0, w, h, 4);
     let i_range = reduced.map(|r| rb.add_buffer(device, &mut enc, &r.range, 8));
+    let i_slices = reduced.and_then(|r| r.slices.as_ref()).map(|b| rb.add_buffer(device, &mut enc, b, SLICES_BYTES));
     let i_maps: Vec<usize> = match &shadow.viz {
         Some(v) => req
             .maps
@@ -63,6 +64,7 @@ pub(crate) fn read_frame(
         truth: None,
         shadow_maps: Vec::new(),
         visible_depth: i_range.and_then(|i| decode(&data[i])),
+        receiver_slices: i_slices.map(|i| decode_slices(&data[i])),
         surface_offset: req.scene.surface_offset(),
         camera: req.camera,
         light: req.light,

@@ -1,9 +1,14 @@
 //! The visible depth range on the GPU: a compute pass over the G-buffer's world positions into
 //! two atomic words (the least and greatest view depth of any pixel that sees geometry), read
-//! back as eight bytes. Adapters without compute shaders (some GL ES devices) have no such pass;
-//! the caller then reduces the read-back positions on the CPU.
+//! back as eight bytes; where asked for, in the same pass, the receiver pixels' bounds and
+//! greatest view depth per slice of the view (seven words a slice). Adapters without compute
+//! shaders (some GL ES devices) have no such pass; the caller then reduces the read-back
+//! positions on the CPU.
 
 use wgpu::util::DeviceExt;
+
+use crate::frame::ReceiverSlice;
+use crate::types::RECEIVER_SLICES;
 
 /// Threads per workgroup side (`@workgroup_size(8, 8)` in `reduce.wgsl`).
 const GROUP: u32 = 8;
@@ -14,9 +19,17 @@ pub(crate) struct DepthReduce {
     pipeline: wgpu::ComputePipeline,
 }
 
-/// One frame's reduction: its result buffer (two u32 words, f32 bits).
+/// Words per slice (`SLICE_WORDS` in `reduce.wgsl`): min x, y, z, max x, y, z, greatest depth.
+const SLICE_WORDS: usize = 7;
+
+/// Bytes of the slices' words (`slices` in `reduce.wgsl`).
+pub(crate) const SLICES_BYTES: u32 = (RECEIVER_SLICES * SLICE_WORDS * 4) as u32;
+
+/// One frame's reduction: its result buffers (two u32 words, f32 bits; the slices' ordered
+/// words, read back only where they were asked for).
 pub(crate) struct Reduced {
     pub range: wgpu::Buffer,
+    pub slices: Option<wgpu::Buffer>,
 }
 
 impl DepthReduce {
@@ -26,6 +39,11 @@ impl DepthReduce {
             source: wgpu::ShaderSource::Wgsl(include_str!("../shaders/reduce.wgsl").into()),
         });
         let entry = |binding, ty| wgpu::BindGroupLayoutEntry { binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count: None };
+        let storage = wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: false },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        };
         let bgl = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("reduce"),
             entries: &[
@@ -41,14 +59,8 @@ impl DepthReduce {
                     1,
                     wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
                 ),
-                entry(
-                    2,
-                    wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Storage { read_only: false },
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                ),
+                entry(2, storage),
+                entry(3, storage),
             ],
         });
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -68,7 +80,8 @@ impl DepthReduce {
     }
 
     /// Records the reduction of `world` (`w × h`) for the camera at `eye` looking along the unit
-    /// `forward`.
+    /// `forward`, and of its receiver pixels into the slices between `planes` where given.
+    #[allow(clippy::too_many_arguments)]
     pub fn encode(
         &self,
         device: &wgpu::Device,
@@ -77,32 +90,31 @@ impl DepthReduce {
         (w, h): (u32, u32),
         eye: [f32; 3],
         forward: [f32; 3],
+        planes: Option<&[f32; RECEIVER_SLICES - 1]>,
     ) -> Reduced {
-        let mut view = [0u8; 48];
-        let words: [u32; 12] = [
-            eye[0].to_bits(),
-            eye[1].to_bits(),
-            eye[2].to_bits(),
-            0,
-            forward[0].to_bits(),
-            forward[1].to_bits(),
-            forward[2].to_bits(),
-            0,
-            w,
-            h,
-            0,
-            0,
-        ];
-        view.copy_from_slice(bytemuck::cast_slice(&words));
+        let mut words = [0u32; 28];
+        words[..3].copy_from_slice(&eye.map(f32::to_bits));
+        words[4..7].copy_from_slice(&forward.map(f32::to_bits));
+        words[8..11].copy_from_slice(&[w, h, planes.is_some() as u32]);
+        if let Some(p) = planes {
+            words[12..12 + p.len()].copy_from_slice(&p.map(f32::to_bits));
+        }
         let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("reduce view"),
-            contents: &view,
+            contents: bytemuck::cast_slice(&words),
             usage: wgpu::BufferUsages::UNIFORM,
         });
         // Least starts at the greatest bit pattern, greatest at 0.
         let range = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("visible depth"),
             contents: bytemuck::cast_slice(&[u32::MAX, 0u32]),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        });
+        // Each slice's least words start at the greatest pattern, its greatest at 0.
+        let empty: [u32; RECEIVER_SLICES * SLICE_WORDS] = std::array::from_fn(|i| if i % SLICE_WORDS < 3 { u32::MAX } else { 0 });
+        let slices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("receiver slices"),
+            contents: bytemuck::cast_slice(&empty),
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         });
         let texture_view = world.create_view(&wgpu::TextureViewDescriptor::default());
@@ -113,6 +125,7 @@ impl DepthReduce {
                 wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&texture_view) },
                 wgpu::BindGroupEntry { binding: 1, resource: uniform.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 2, resource: range.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 3, resource: slices.as_entire_binding() },
             ],
         });
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("reduce"), timestamp_writes: None });
@@ -120,7 +133,7 @@ impl DepthReduce {
         pass.set_bind_group(0, &bind, &[]);
         pass.dispatch_workgroups(w.div_ceil(GROUP), h.div_ceil(GROUP), 1);
         drop(pass);
-        Reduced { range }
+        Reduced { range, slices: planes.is_some().then_some(slices) }
     }
 }
 
@@ -131,9 +144,63 @@ pub(crate) fn decode(bytes: &[u8]) -> Option<[f32; 2]> {
     (lo <= hi).then_some([lo, hi])
 }
 
+/// The f32 of an `ordered` word (`reduce.wgsl`).
+fn unordered(k: u32) -> f32 {
+    f32::from_bits(if k >> 31 == 1 { k & 0x7fff_ffff } else { !k })
+}
+
+/// The slices from their read-back words; a slice's `None` where no receiver pixel fell in it.
+pub(crate) fn decode_slices(bytes: &[u8]) -> [Option<ReceiverSlice>; RECEIVER_SLICES] {
+    let w: Vec<u32> = bytemuck::pod_collect_to_vec::<u8, u32>(bytes);
+    std::array::from_fn(|k| {
+        let s = w.get(k * SLICE_WORDS..(k + 1) * SLICE_WORDS)?;
+        // NOTE: untouched, a slice's least word is u32::MAX and its greatest 0; any pixel
+        // leaves least ≤ greatest, in the words' order as in the floats'.
+        (s[0] <= s[3]).then(|| ReceiverSlice {
+            min: [s[0], s[1], s[2]].map(unordered),
+            max: [s[3], s[4], s[5]].map(unordered),
+            far: unordered(s[6]),
+        })
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `ordered` of `reduce.wgsl`, for the tests.
+    fn ordered(x: f32) -> u32 {
+        let b = x.to_bits();
+        if b >> 31 == 1 {
+            !b
+        } else {
+            b | 0x8000_0000
+        }
+    }
+
+    #[test]
+    fn ordered_words_keep_the_floats_order_and_come_back() {
+        let xs = [f32::NEG_INFINITY, -3.5e30, -1.0, -1e-40, -0.0, 0.0, 1e-40, 0.25, 1.0, 7.0e12, f32::INFINITY];
+        for (a, b) in xs.iter().zip(&xs[1..]) {
+            assert!(ordered(*a) < ordered(*b), "{a} {b}");
+        }
+        for x in xs {
+            assert_eq!(unordered(ordered(x)).to_bits(), x.to_bits());
+        }
+    }
+
+    #[test]
+    fn slices_decode_to_their_bounds_or_nothing() {
+        let mut w = [0u32; RECEIVER_SLICES * SLICE_WORDS];
+        for k in 0..RECEIVER_SLICES {
+            w[k * SLICE_WORDS..k * SLICE_WORDS + 3].fill(u32::MAX);
+        }
+        let filled = [-2.0f32, 0.5, -7.25, 3.0, 0.5, -1.0, 41.5].map(ordered);
+        w[5 * SLICE_WORDS..6 * SLICE_WORDS].copy_from_slice(&filled);
+        let s = decode_slices(bytemuck::cast_slice(&w));
+        assert_eq!(s.iter().filter(|s| s.is_some()).count(), 1);
+        assert_eq!(s[5], Some(ReceiverSlice { min: [-2.0, 0.5, -7.25], max: [3.0, 0.5, -1.0], far: 41.5 }));
+    }
 
     #[test]
     fn words_decode_to_the_range_or_nothing() {

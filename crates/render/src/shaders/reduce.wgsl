@@ -1,18 +1,34 @@
 // Visible depth range: the least and greatest view depth over the pixels that see geometry
-// (sample-distribution shadow maps [SDSM10]), reduced from the G-buffer's world positions.
+// (sample-distribution shadow maps [SDSM10]), reduced from the G-buffer's world positions; and,
+// where asked for, the receiver pixels' bounds and greatest view depth in each of 16 slices of
+// the view (the visible receiver boxes).
 //
 // NOTE: a view depth in front of the camera is a non-negative f32, and the bit patterns of
 // non-negative f32s order as u32s do, so atomicMin/atomicMax on the bits reduce the floats.
+// World coordinates have either sign: `ordered` maps every f32 to a u32 of the same order
+// (negatives' bits inverted, positives' sign bit set), and the reader maps it back.
 
 struct View {
     eye: vec4<f32>,
     forward: vec4<f32>,
+    // x, y: the image's size; z: 1 where the receiver slices are asked for.
     size: vec4<u32>,
+    // The 15 view depths between the slices, ascending (the 16th lane unused).
+    planes: array<vec4<f32>, 4>,
 }
+
+// Per slice: min x, y, z, max x, y, z, greatest depth, as `ordered` words.
+const SLICE_WORDS: u32 = 7u;
 
 @group(0) @binding(0) var world: texture_2d<u32>;
 @group(0) @binding(1) var<uniform> view: View;
 @group(0) @binding(2) var<storage, read_write> range: array<atomic<u32>, 2>;
+@group(0) @binding(3) var<storage, read_write> slices: array<atomic<u32>, 112>;
+
+fn ordered(x: f32) -> u32 {
+    let b = bitcast<u32>(x);
+    return select(b | 0x80000000u, ~b, (b >> 31u) == 1u);
+}
 
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -25,7 +41,23 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let p = bitcast<vec3<f32>>(t.xyz);
-    let z = bitcast<u32>(max(dot(p - view.eye.xyz, view.forward.xyz), 0.0));
+    let depth = dot(p - view.eye.xyz, view.forward.xyz);
+    let z = bitcast<u32>(max(depth, 0.0));
     atomicMin(&range[0], z);
     atomicMax(&range[1], z);
+    // w = 1: a receiver.
+    if (view.size.z == 0u || bitcast<f32>(t.w) != 1.0) {
+        return;
+    }
+    // The slice is the number of planes at or before the depth.
+    var k = 0u;
+    for (var i = 0u; i < 15u; i++) {
+        k += select(0u, 1u, view.planes[i / 4u][i % 4u] <= depth);
+    }
+    let base = k * SLICE_WORDS;
+    for (var a = 0u; a < 3u; a++) {
+        atomicMin(&slices[base + a], ordered(p[a]));
+        atomicMax(&slices[base + 3u + a], ordered(p[a]));
+    }
+    atomicMax(&slices[base + 6u], ordered(depth));
 }
