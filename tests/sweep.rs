@@ -282,8 +282,9 @@ fn splits_on_the_visible_receivers_warp_no_worse_than_uniform() {
         let s = run(scene, &format!("{scene}-visible"), (&ELEVATIONS, &AZIMUTHS), &VISIBLE_METHODS, SMALL_SIZE, 4, told);
         for r in covered_rows(&s, VISIBLE_METHODS.len()) {
             row_violations(&r.label(), r, WARP_LIMIT, &mut v);
-            let u = &s.rows[r.light_index * VISIBLE_METHODS.len()];
-            for (k, ratio) in [("p95", r.aliasing.p95 / u.aliasing.p95), ("max", r.aliasing.max / u.aliasing.max)] {
+            // NOTE: a run without the one uniform map takes its ratios over
+            // `uniform4`'s; a ratio missing (NaN) fails the test.
+            for (k, ratio) in [("p95", r.p95_ratio), ("max", r.max_ratio)] {
                 worst = worst.max(ratio);
                 if !(ratio <= VISIBLE_SPLIT_LIMIT) {
                     v.push(format!("{scene} {}: {k} aliasing {ratio:.3}× uniform4's", r.label()));

@@ -442,18 +442,32 @@ pub fn sweep(
             row.notes.extend(names("skipped").into_iter().map(|s| format!("skipped:{s}")));
             rows.push(row);
         }
-        // Stable maps are compared with the stable uniform map, the others
-        // with the plain one.
-        for stable in [false, true] {
-            let reference = if stable { "uniform-stable" } else { "uniform" };
-            let Some(u) = rows[first..].iter().find(|r| r.method == reference).map(|r| r.aliasing) else { continue };
-            for r in rows[first..].iter_mut().filter(|r| r.method.ends_with("-stable") == stable) {
-                r.p95_ratio = r.aliasing.p95 / u.p95;
-                r.max_ratio = r.aliasing.max / u.max;
-            }
-        }
+        set_uniform_ratios(&mut rows[first..]);
     }
     Ok(Sweep { scene: scene.name.clone(), plan: plan.clone(), adapter: renderer.adapter().clone(), rows })
+}
+
+/// Each row's p95 and maximum over its uniform map's at the same light:
+/// stable maps over the stable uniform map, the others over the plain one
+/// (`uniform`, one map); in a run without that one map, over the uniform
+/// maps of the row's own splits (`uniform4@practical` for
+/// `lispsm4@practical`, else `uniform4` for `lispsm4…`), so that a run of
+/// splits alone still ranks its worst.
+fn set_uniform_ratios(rows: &mut [SweepRow]) {
+    for i in 0..rows.len() {
+        let method = &rows[i].method;
+        let stable = if method.ends_with("-stable") { "-stable" } else { "" };
+        // What follows the method's name: its split count, scheme and kind.
+        let tail = method.trim_start_matches(|c: char| c.is_ascii_alphabetic());
+        let count: String = tail.chars().take_while(char::is_ascii_digit).collect();
+        let named = |name: String| rows.iter().find(|r| r.method == name).map(|r| r.aliasing);
+        let reference = named(format!("uniform{stable}"))
+            .or_else(|| named(format!("uniform{tail}")))
+            .or_else(|| named(format!("uniform{count}{stable}")));
+        let Some(u) = reference else { continue };
+        let r = &mut rows[i];
+        (r.p95_ratio, r.max_ratio) = (r.aliasing.p95 / u.p95, r.aliasing.max / u.max);
+    }
 }
 
 /// The largest of the maps' predictions in `render`'s `predicted_aliasing_px`
@@ -832,6 +846,38 @@ mod tests {
             few,
         ];
         assert_eq!(worst(&rows), vec![3, 2, 1, 5, 6, 0, 4], "too few adequate pixels to rank by their mismatch");
+    }
+
+    #[test]
+    fn splits_alone_are_ranked_over_their_own_uniform_splits() {
+        let with = |method: &str, p95: f64| SweepRow {
+            aliasing: AliasingStats { p95, max: 2.0 * p95, ..Default::default() },
+            ..row(method, 0.0, f64::NAN)
+        };
+        let ratios = |rows: &[SweepRow]| rows.iter().map(|r| r.p95_ratio).collect::<Vec<_>>();
+        // One uniform map: every row over it, splits too.
+        let mut rows = vec![with("uniform", 2.0), with("lispsm", 1.0), with("uniform4", 4.0), with("lispsm4", 3.0)];
+        set_uniform_ratios(&mut rows);
+        assert_eq!(ratios(&rows), [1.0, 0.5, 2.0, 1.5]);
+        // Splits alone: over the uniform splits of the same scheme where
+        // there are any, else of the same count; the stable ones over theirs.
+        let mut rows = vec![
+            with("lispsm4", 3.0),
+            with("uniform4", 4.0),
+            with("tsm4-stable", 1.0),
+            with("uniform4-stable", 2.0),
+            with("psm4@practical", 8.0),
+            with("uniform4@practical", 5.0),
+            with("auto4@geometric:10", 2.0),
+        ];
+        set_uniform_ratios(&mut rows);
+        assert_eq!(ratios(&rows), [0.75, 1.0, 0.5, 1.0, 1.6, 1.0, 0.5]);
+        assert_eq!(rows[4].max_ratio, 1.6);
+        assert_eq!(worst(&rows), vec![4, 1, 3, 5, 0, 2, 6]);
+        // No uniform map of either kind: no ratio.
+        let mut rows = vec![with("lispsm4", 3.0), with("uniform2", 1.0)];
+        set_uniform_ratios(&mut rows);
+        assert!(rows[0].p95_ratio.is_nan() && rows[1].p95_ratio == 1.0);
     }
 
     #[test]
