@@ -640,7 +640,8 @@ fn the_gpu_reduces_the_visible_receivers_as_the_cpu_does() {
     // max round nothing); each pixel lies in the slice its f64 depth falls
     // in, or, within the f32 rounding of a depth of a plane, in the slice
     // beside it; each slice's greatest depth lies in its depth range and is
-    // a pixel's; the boxes from the slices hold every pixel.
+    // a pixel's; the boxes from the slices hold every pixel and are the
+    // CPU's.
     let mut guard = RENDERER.lock().unwrap_or_else(|e| e.into_inner());
     let renderer = guard.get_or_insert_with(|| Renderer::from_env().expect("a wgpu adapter (llvmpipe on a fresh machine)"));
     assert!(renderer.adapter().compute, "{:?}", renderer.adapter());
@@ -687,6 +688,10 @@ fn the_gpu_reduces_the_visible_receivers_as_the_cpu_does() {
         }
         let boxes = shadowfocus_cli::cli::render::visible_receiver_boxes(&out, &camera).unwrap();
         assert!(boxes.is_seen(), "{name}");
+        // On the boxes' grid the f32 reduction's last bits are gone: the
+        // CPU's gathering of the same pixels in f64 gives the same boxes.
+        let cpu = shadowfocus_cli::cli::render::cpu_visible_receivers(&out, &camera).unwrap();
+        assert_eq!(boxes, cpu.boxes(cpu.magnitude() / 65536.0).unwrap(), "{name}");
         for &p in &points {
             assert!(boxes.as_slice().iter().any(|b| b.contains(p)), "{name}: the pixel at {p} is in no box");
         }
