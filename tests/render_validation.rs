@@ -637,11 +637,11 @@ fn the_gpu_reduces_the_visible_receivers_as_the_cpu_does() {
     // Every built-in scene, rendered as `--visible-receivers` renders it:
     // the compute pass's slices against the read-back receiver pixels. The
     // slices' bounds together are the pixels' bounds bit for bit (min and
-    // max round nothing); each pixel lies in the slice its f64 depth falls
-    // in, or, within the f32 rounding of a depth of a plane, in the slice
-    // beside it; each slice's greatest depth lies in its depth range and is
-    // a pixel's; the boxes from the slices hold every pixel and are the
-    // CPU's.
+    // max round nothing); each pixel lies in the slice of the axis its
+    // normal faces and its f64 depth falls in, or, within the f32 rounding
+    // of a depth of a plane, in the slice beside it; each slice's greatest
+    // depth lies in its depth range and is a pixel's; the boxes from the
+    // slices hold every pixel and are the CPU's.
     let mut guard = RENDERER.lock().unwrap_or_else(|e| e.into_inner());
     let renderer = guard.get_or_insert_with(|| Renderer::from_env().expect("a wgpu adapter (llvmpipe on a fresh machine)"));
     assert!(renderer.adapter().compute, "{:?}", renderer.adapter());
@@ -654,31 +654,42 @@ fn the_gpu_reduces_the_visible_receivers_as_the_cpu_does() {
         let (camera, _, _) = shadowfocus_cli::cli::render::frame_inputs(&s, &frame, SIZE.0 as f64 / SIZE.1 as f64).unwrap();
         let planes = VisibleReceivers::new(&camera, SIZE.1).unwrap().slice_planes().to_vec();
         let forward = camera.forward.normalize();
-        let points: Vec<DVec3> =
-            out.world.iter().filter(|w| w[3] == 1.0).map(|w| DVec3::new(w[0] as f64, w[1] as f64, w[2] as f64)).collect();
-        assert!(points.len() > 1000, "{name}: {} receiver pixels", points.len());
-        let filled: Vec<(usize, Aabb, f64)> = slices
+        let dvec = |p: &[f32; 4]| DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64);
+        let points: Vec<(DVec3, usize)> = out
+            .world
             .iter()
-            .enumerate()
-            .filter_map(|(k, s)| s.map(|s| (k, Aabb { min: s.min.map(f64::from).into(), max: s.max.map(f64::from).into() }, s.far as f64)))
+            .zip(&out.normal)
+            .filter(|(w, _)| w[3] == 1.0)
+            .map(|(w, n)| (dvec(w), VisibleReceivers::facing(dvec(n)).unwrap()))
             .collect();
+        assert!(points.len() > 1000, "{name}: {} receiver pixels", points.len());
+        // (axis, slice, bounds, greatest depth) of each slice that holds a pixel.
+        let filled: Vec<(usize, usize, Aabb, f64)> = (0..3)
+            .flat_map(|axis| (0..slices[axis].len()).map(move |k| (axis, k)))
+            .filter_map(|(axis, k)| {
+                let s = slices[axis][k]?;
+                Some((axis, k, Aabb { min: s.min.map(f64::from).into(), max: s.max.map(f64::from).into() }, s.far as f64))
+            })
+            .collect();
+        let facings = (0..3).filter(|&a| filled.iter().any(|f| f.0 == a)).count();
+        assert!(facings >= if name == "huge-chessboard" { 2 } else { 1 }, "{name}: the slab's top and side face apart");
         let bounds = |b: &mut Aabb, p: DVec3, q: DVec3| (b.min, b.max) = (b.min.min(p), b.max.max(q));
         let empty = Aabb { min: DVec3::INFINITY, max: DVec3::NEG_INFINITY };
         let (mut all, mut of_slices) = (empty, empty);
-        points.iter().for_each(|&p| bounds(&mut all, p, p));
-        filled.iter().for_each(|(_, b, _)| bounds(&mut of_slices, b.min, b.max));
+        points.iter().for_each(|&(p, _)| bounds(&mut all, p, p));
+        filled.iter().for_each(|(_, _, b, _)| bounds(&mut of_slices, b.min, b.max));
         assert_eq!(all, of_slices, "{name}: the slices' bounds are not the pixels'");
         let depth_tol = |z: f64| 8.0 * f32::EPSILON as f64 * (camera.eye.length() + z.abs());
-        let holds = |k: usize, p: DVec3| filled.iter().any(|(j, b, _)| *j == k && b.contains(p));
-        for &p in &points {
+        let holds = |axis: usize, k: usize, p: DVec3| filled.iter().any(|(a, j, b, _)| (*a, *j) == (axis, k) && b.contains(p));
+        for &(p, axis) in &points {
             let z = (p - camera.eye).dot(forward);
             let k = planes.partition_point(|&c| c <= z);
             let beside = |j: usize| planes.get(j).is_some_and(|&c| (z - c).abs() <= depth_tol(z));
-            let found = holds(k, p) || (k > 0 && beside(k - 1) && holds(k - 1, p)) || (beside(k) && holds(k + 1, p));
-            assert!(found, "{name}: the pixel at {p} (depth {z}, slice {k}) is in no slice it may fall in");
+            let found = holds(axis, k, p) || (k > 0 && beside(k - 1) && holds(axis, k - 1, p)) || (beside(k) && holds(axis, k + 1, p));
+            assert!(found, "{name}: the pixel at {p} (facing {axis}, depth {z}, slice {k}) is in no slice it may fall in");
         }
-        let depths: Vec<f64> = points.iter().map(|&p| (p - camera.eye).dot(forward)).collect();
-        for (k, _, far) in &filled {
+        let depths: Vec<f64> = points.iter().map(|&(p, _)| (p - camera.eye).dot(forward)).collect();
+        for (_, k, _, far) in &filled {
             let (lo, hi) = (if *k == 0 { f64::NEG_INFINITY } else { planes[k - 1] }, planes.get(*k).copied().unwrap_or(f64::INFINITY));
             assert!(
                 *far >= lo - depth_tol(*far) && *far <= hi + depth_tol(*far),
@@ -692,7 +703,7 @@ fn the_gpu_reduces_the_visible_receivers_as_the_cpu_does() {
         // CPU's gathering of the same pixels in f64 gives the same boxes.
         let cpu = shadowfocus_cli::cli::render::cpu_visible_receivers(&out, &camera).unwrap();
         assert_eq!(boxes, cpu.boxes(cpu.magnitude() / 65536.0).unwrap(), "{name}");
-        for &p in &points {
+        for &(p, _) in &points {
             assert!(boxes.as_slice().iter().any(|b| b.contains(p)), "{name}: the pixel at {p} is in no box");
         }
     }

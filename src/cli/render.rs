@@ -170,8 +170,9 @@ pub fn receiver_slice_planes(camera: &Camera, height: u32) -> Result<ReceiverSli
 }
 
 /// Boxes around the receivers a rendered frame shows (the pixels its
-/// aliasing statistics count), sliced by view depth
-/// ([`VisibleReceivers`]); no hint where no pixel shows a receiver. The
+/// aliasing statistics count), sliced by view depth and by the axis their
+/// normals face ([`VisibleReceivers`]); no hint where no pixel shows a
+/// receiver. The
 /// GPU's reduction into the slices where the frame was rendered with
 /// [`receiver_slice_planes`] of `camera` and the adapter has compute
 /// shaders, else the CPU's of the read-back positions.
@@ -190,23 +191,28 @@ pub fn visible_receiver_boxes(out: &render::RenderOutput, camera: &Camera) -> Re
 }
 
 /// The visible receivers of the GPU's slices of a frame of `camera`.
-fn gpu_visible_receivers(slices: &[Option<render::ReceiverSlice>], camera: &Camera, height: u32) -> Result<VisibleReceivers, String> {
+fn gpu_visible_receivers(slices: &render::ReceiverSlices, camera: &Camera, height: u32) -> Result<VisibleReceivers, String> {
     let mut v = VisibleReceivers::new(camera, height).map_err(|e| e.to_string())?;
     let dvec = |p: [f32; 3]| glam::DVec3::from(p.map(f64::from));
-    for (k, s) in slices.iter().enumerate() {
-        if let Some(s) = s {
-            v.add_slice(k, Aabb { min: dvec(s.min), max: dvec(s.max) }, s.far as f64).map_err(|e| e.to_string())?;
+    for (axis, slices) in slices.iter().enumerate() {
+        for (k, s) in slices.iter().enumerate() {
+            if let Some(s) = s {
+                let bounds = Aabb { min: dvec(s.min), max: dvec(s.max) };
+                v.add_slice(k, Some(axis), bounds, s.far as f64).map_err(|e| e.to_string())?;
+            }
         }
     }
     Ok(v)
 }
 
-/// The visible receivers of a frame's read-back receiver pixels (for
-/// adapters without compute shaders, and to check the GPU's).
+/// The visible receivers of a frame's read-back receiver pixels, by the
+/// axis their normal faces (for adapters without compute shaders, and to
+/// check the GPU's).
 pub fn cpu_visible_receivers(out: &render::RenderOutput, camera: &Camera) -> Result<VisibleReceivers, String> {
     let mut v = VisibleReceivers::new(camera, out.height).map_err(|e| e.to_string())?;
-    for w in out.world.iter().filter(|w| w[3] == 1.0) {
-        v.add(glam::DVec3::new(w[0] as f64, w[1] as f64, w[2] as f64));
+    let dvec = |p: &[f32; 4]| glam::DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64);
+    for (w, n) in out.world.iter().zip(&out.normal).filter(|(w, _)| w[3] == 1.0) {
+        v.add_facing(dvec(w), dvec(n));
     }
     Ok(v)
 }

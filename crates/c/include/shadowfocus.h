@@ -907,25 +907,31 @@ int sf_cull_casters(struct SfContext *ctx,
 
 /*
  Gathers the points a depth pre-pass of `camera`'s view saw into receiver
- boxes for `SfSettings::receivers` (with `receivers_seen` set): slices of the view in log depth, a
+ boxes for `SfSettings::receivers` (with `receivers_seen` set): slices of the view in log depth,
+ apart by the world axis each point's normal lies closest to where `normals` is given, a
  ground seen over several slices as one box, each widened by a pixel at
  its far end (the buffer is `height_px` pixels high) and by `margin` (the
  points' rounding: 2^-20 of their magnitude for positions computed and
  stored in float; for points a frame old, add the most a receiver moved
  since). `points` holds `n` positions as x, y, z floats (`n` may be 0:
- no hint, `*count = 0`). Writes at most `SF_MAX_RECEIVER_BOXES` boxes
- to `out` and sets `*count`; `SF_ERR_BUFFER_TOO_SMALL` (nothing written)
- when `capacity < *count`. A point that is not finite fails the call.
+ no hint, `*count = 0`), `normals` their surface normals the same way
+ (either way round, any length) or is NULL (unknown: a slice that sees a
+ slab's top and side then gets one box as deep as the side). Writes at
+ most `SF_MAX_RECEIVER_BOXES` boxes to `out` and sets `*count`;
+ `SF_ERR_BUFFER_TOO_SMALL` (nothing written) when `capacity < *count`. A
+ point that is not finite, or a normal that is not finite or zero, fails
+ the call.
 
  # Safety
- `points` holds `3 * n` readable floats (or is NULL with `n` 0), `out`
- `capacity` writable boxes (or is NULL with capacity 0); the other
- pointers are NULL or valid.
+ `points` holds `3 * n` readable floats (or is NULL with `n` 0), so does
+ `normals` unless it is NULL, `out` `capacity` writable boxes (or is NULL
+ with capacity 0); the other pointers are NULL or valid.
  */
 int sf_visible_receivers(struct SfContext *ctx,
                          const struct SfCamera *camera,
                          uint32_t height_px,
                          const float *points,
+                         const float *normals,
                          size_t n,
                          double margin,
                          struct SfAabb *out,

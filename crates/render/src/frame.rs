@@ -109,6 +109,9 @@ pub struct ReceiverSlice {
     pub far: f32,
 }
 
+/// The receiver slices of a frame per facing axis: `[axis][slice]`.
+pub type ReceiverSlices = [[Option<ReceiverSlice>; crate::types::RECEIVER_SLICES]; 3];
+
 /// Everything a render produced, per pixel (rows top to bottom) and summarised.
 #[derive(Clone, Debug)]
 pub struct RenderOutput {
@@ -135,10 +138,10 @@ pub struct RenderOutput {
     /// shaders or no pixel sees geometry.
     pub visible_depth: Option<[f32; 2]>,
     /// The receiver pixels (`world`'s w = 1) reduced on the GPU into the slices of the view that
-    /// [`crate::RenderSettings::receiver_slices`] asked for, each slice's `None` where no receiver
-    /// pixel falls in it; `None` where they were not asked for or the adapter has no compute
-    /// shaders.
-    pub receiver_slices: Option<[Option<ReceiverSlice>; crate::types::RECEIVER_SLICES]>,
+    /// [`crate::RenderSettings::receiver_slices`] asked for, apart for each world axis (x, y, z)
+    /// their normal lies closest to (`[axis][slice]`), each slice's `None` where no receiver pixel
+    /// falls in it; `None` where they were not asked for or the adapter has no compute shaders.
+    pub receiver_slices: Option<ReceiverSlices>,
     /// The scene's surface offset (`Scene::surface_offset`): the main pass looked each pixel's
     /// point up lifted off its surface by this much.
     pub surface_offset: f64,

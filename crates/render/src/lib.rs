@@ -40,7 +40,7 @@ mod types;
 mod uniforms;
 
 pub use error::RenderError;
-pub use frame::{DepthMap, ReceiverSlice, RenderOutput, RenderRequest};
+pub use frame::{DepthMap, ReceiverSlice, ReceiverSlices, RenderOutput, RenderRequest};
 pub use gltf_scene::{default_camera, default_light, load_gltf, load_scene, GltfReport};
 pub use gpu::{AdapterSummary, BackendChoice, BACKEND_ENV};
 pub use ground_truth::{GroundTruth, Visibility};

@@ -467,7 +467,8 @@ impl Renderer {
             let c = &req.camera;
             let f = c.forward.normalize();
             let (eye, forward) = (c.eye.as_vec3().into(), f.as_vec3().into());
-            let reduced = r.encode(device, &mut enc, &main.targets.world, (s.width, s.height), eye, forward, s.receiver_slices.as_ref());
+            let targets = (&main.targets.world, &main.targets.normal);
+            let reduced = r.encode(device, &mut enc, targets, (s.width, s.height), eye, forward, s.receiver_slices.as_ref());
             self.gpu.queue.submit([enc.finish()]);
             reduced
         });

@@ -282,37 +282,40 @@ fn a_panic_is_caught_and_reported() {
 }
 
 /// `sf_visible_receivers` refuses NULL pointers, a bad camera, a zero
-/// height, a point that is not finite and a bad margin, with messages.
+/// height, a point that is not finite, a zero normal and a bad margin, with
+/// messages.
 #[test]
 fn visible_receivers_refuse_bad_input() {
     let ctx = Ctx::new();
     let pts = [1.0f32, -1.0, 5.0, 2.0, -1.0, 9.0];
     let nan = [1.0f32, f32::NAN, 5.0];
+    let zero = [0.0f32, 1.0, 0.0, 0.0, 0.0, 0.0];
     let mut out = [SfAabb { min: [0.0; 3], max: [0.0; 3] }; SF_MAX_RECEIVER_BOXES as usize];
     let mut n = 0;
     let cam = camera(0);
     let bad_cam = SfCamera { near_dist: 500.0, ..cam };
     unsafe {
         let o = out.as_mut_ptr();
-        assert_eq!(sf_visible_receivers(ptr::null_mut(), &cam, 64, pts.as_ptr(), 2, 0.0, o, 16, &mut n), NULL);
-        assert_eq!(sf_visible_receivers(ctx.0, ptr::null(), 64, pts.as_ptr(), 2, 0.0, o, 16, &mut n), NULL);
+        assert_eq!(sf_visible_receivers(ptr::null_mut(), &cam, 64, pts.as_ptr(), ptr::null(), 2, 0.0, o, 16, &mut n), NULL);
+        assert_eq!(sf_visible_receivers(ctx.0, ptr::null(), 64, pts.as_ptr(), ptr::null(), 2, 0.0, o, 16, &mut n), NULL);
         assert!(ctx.error().contains("camera"), "{}", ctx.error());
-        assert_eq!(sf_visible_receivers(ctx.0, &cam, 64, ptr::null(), 2, 0.0, o, 16, &mut n), NULL);
+        assert_eq!(sf_visible_receivers(ctx.0, &cam, 64, ptr::null(), ptr::null(), 2, 0.0, o, 16, &mut n), NULL);
         assert!(ctx.error().contains("points"), "{}", ctx.error());
-        assert_eq!(sf_visible_receivers(ctx.0, &cam, 64, pts.as_ptr(), 2, 0.0, ptr::null_mut(), 16, &mut n), NULL);
-        assert_eq!(sf_visible_receivers(ctx.0, &cam, 64, pts.as_ptr(), 2, 0.0, o, 16, ptr::null_mut()), NULL);
+        assert_eq!(sf_visible_receivers(ctx.0, &cam, 64, pts.as_ptr(), ptr::null(), 2, 0.0, ptr::null_mut(), 16, &mut n), NULL);
+        assert_eq!(sf_visible_receivers(ctx.0, &cam, 64, pts.as_ptr(), ptr::null(), 2, 0.0, o, 16, ptr::null_mut()), NULL);
         let cases = [
-            (sf_visible_receivers(ctx.0, &bad_cam, 64, pts.as_ptr(), 2, 0.0, o, 16, &mut n), "near must be smaller than far"),
-            (sf_visible_receivers(ctx.0, &cam, 0, pts.as_ptr(), 2, 0.0, o, 16, &mut n), "height"),
-            (sf_visible_receivers(ctx.0, &cam, 64, nan.as_ptr(), 1, 0.0, o, 16, &mut n), "not finite"),
-            (sf_visible_receivers(ctx.0, &cam, 64, pts.as_ptr(), 2, -1.0, o, 16, &mut n), "margin"),
-            (sf_visible_receivers(ctx.0, &cam, 64, pts.as_ptr(), 2, f64::NAN, o, 16, &mut n), "margin"),
+            (sf_visible_receivers(ctx.0, &bad_cam, 64, pts.as_ptr(), ptr::null(), 2, 0.0, o, 16, &mut n), "near must be smaller than far"),
+            (sf_visible_receivers(ctx.0, &cam, 0, pts.as_ptr(), ptr::null(), 2, 0.0, o, 16, &mut n), "height"),
+            (sf_visible_receivers(ctx.0, &cam, 64, nan.as_ptr(), ptr::null(), 1, 0.0, o, 16, &mut n), "not finite"),
+            (sf_visible_receivers(ctx.0, &cam, 64, pts.as_ptr(), zero.as_ptr(), 2, 0.0, o, 16, &mut n), "not finite"),
+            (sf_visible_receivers(ctx.0, &cam, 64, pts.as_ptr(), ptr::null(), 2, -1.0, o, 16, &mut n), "margin"),
+            (sf_visible_receivers(ctx.0, &cam, 64, pts.as_ptr(), ptr::null(), 2, f64::NAN, o, 16, &mut n), "margin"),
         ];
         for (rc, what) in cases {
             assert_eq!(rc, INVALID, "{what}");
             assert_eq!(n, 0, "{what}");
         }
-        assert_eq!(sf_visible_receivers(ctx.0, &cam, 64, pts.as_ptr(), 2, 0.0, o, 16, &mut n), OK, "{}", ctx.error());
+        assert_eq!(sf_visible_receivers(ctx.0, &cam, 64, pts.as_ptr(), ptr::null(), 2, 0.0, o, 16, &mut n), OK, "{}", ctx.error());
         assert_eq!(n, 1);
     }
 }

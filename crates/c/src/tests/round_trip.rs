@@ -471,8 +471,9 @@ fn default_settings_are_the_library_defaults() {
 }
 
 /// Visible receiver boxes through C: those of `VisibleReceivers` from the
-/// same float points, bit for bit, for a bumpy ground seen from frames of
-/// the walk; none for no points; a short buffer gets the count.
+/// same float points (and normals, on every other frame), bit for bit, for
+/// a bumpy ground seen from frames of the walk; none for no points; a short
+/// buffer gets the count.
 #[test]
 fn visible_receivers_are_those_of_the_library() {
     let ctx = Ctx::new();
@@ -481,7 +482,7 @@ fn visible_receivers_are_those_of_the_library() {
         let rc = rust_camera(&cam);
         let b = rc.basis().unwrap();
         // The points a 64-row pre-pass sees of y = 0.3 sin(x) cos(z), on a grid of rays.
-        let mut pts: Vec<f32> = Vec::new();
+        let (mut pts, mut normals): (Vec<f32>, Vec<f32>) = (Vec::new(), Vec::new());
         for j in 0..32 {
             for i in 0..48 {
                 let (u, v) = (i as f64 / 47.0 * 2.0 - 1.0, -(j as f64) / 31.0);
@@ -492,16 +493,32 @@ fn visible_receivers_are_those_of_the_library() {
                 let p = rc.eye + d * (-rc.eye.y / d.y);
                 let p = glam::DVec3::new(p.x, 0.3 * p.x.sin() * p.z.cos(), p.z);
                 pts.extend([p.x as f32, p.y as f32, p.z as f32]);
+                // The normal of y = 0.3 sin(x) cos(z), steepened so that some face x or z.
+                let n = glam::DVec3::new(-3.0 * p.x.cos() * p.z.cos(), 1.0, 3.0 * p.x.sin() * p.z.sin());
+                normals.extend([n.x as f32, n.y as f32, n.z as f32]);
             }
         }
+        let with_normals = k % 80 == 40;
         let mut v = shadowfocus_focus::VisibleReceivers::new(&rc, 64).unwrap();
-        for p in pts.chunks(3) {
-            v.add(glam::DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64));
+        let dvec = |p: &[f32]| glam::DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64);
+        for (p, m) in pts.chunks(3).zip(normals.chunks(3)) {
+            if with_normals {
+                v.add_facing(dvec(p), dvec(m));
+            } else {
+                v.add(dvec(p));
+            }
         }
         let want = v.boxes(1e-3).unwrap();
+        if with_normals {
+            let mut plain = shadowfocus_focus::VisibleReceivers::new(&rc, 64).unwrap();
+            pts.chunks(3).for_each(|p| plain.add(dvec(p)));
+            assert_ne!(want, plain.boxes(1e-3).unwrap(), "frame {k}: the normals part no points");
+        }
         let mut out = [SfAabb { min: [9.0; 3], max: [9.0; 3] }; SF_MAX_RECEIVER_BOXES as usize];
         let mut n = 99;
-        let rc = unsafe { sf_visible_receivers(ctx.0, &cam, 64, pts.as_ptr(), pts.len() / 3, 1e-3, out.as_mut_ptr(), out.len(), &mut n) };
+        let normals = if with_normals { normals.as_ptr() } else { ptr::null() };
+        let count = pts.len() / 3;
+        let rc = unsafe { sf_visible_receivers(ctx.0, &cam, 64, pts.as_ptr(), normals, count, 1e-3, out.as_mut_ptr(), out.len(), &mut n) };
         assert_eq!(rc, 0, "frame {k}: {}", ctx.error());
         assert_eq!(n, want.as_slice().len(), "frame {k}");
         assert!(n >= 1);
@@ -525,13 +542,13 @@ fn visible_receivers_are_those_of_the_library() {
             assert_same(c, r, &format!("seen boxes, frame {k}, map {i}"));
         }
         let mut short = [SfAabb { min: [9.0; 3], max: [9.0; 3] }; 1];
-        let rc = unsafe { sf_visible_receivers(ctx.0, &cam, 64, pts.as_ptr(), pts.len() / 3, 1e-3, short.as_mut_ptr(), n - 1, &mut n) };
+        let rc = unsafe { sf_visible_receivers(ctx.0, &cam, 64, pts.as_ptr(), normals, count, 1e-3, short.as_mut_ptr(), n - 1, &mut n) };
         if n > 1 {
             assert_eq!(rc, SfStatus::SF_ERR_BUFFER_TOO_SMALL as c_int);
             assert_eq!(short[0].min, [9.0; 3], "nothing written");
         }
     }
     let mut n = 99;
-    let rc = unsafe { sf_visible_receivers(ctx.0, &camera(0), 64, ptr::null(), 0, 0.0, ptr::null_mut(), 0, &mut n) };
+    let rc = unsafe { sf_visible_receivers(ctx.0, &camera(0), 64, ptr::null(), ptr::null(), 0, 0.0, ptr::null_mut(), 0, &mut n) };
     assert_eq!((rc, n), (0, 0), "no points: no hint");
 }

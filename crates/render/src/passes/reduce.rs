@@ -1,13 +1,14 @@
 //! The visible depth range on the GPU: a compute pass over the G-buffer's world positions into
 //! two atomic words (the least and greatest view depth of any pixel that sees geometry), read
 //! back as eight bytes; where asked for, in the same pass, the receiver pixels' bounds and
-//! greatest view depth per slice of the view (seven words a slice). Adapters without compute
+//! greatest view depth per slice of the view and axis their normal faces (seven words a
+//! slice). Adapters without compute
 //! shaders (some GL ES devices) have no such pass; the caller then reduces the read-back
 //! positions on the CPU.
 
 use wgpu::util::DeviceExt;
 
-use crate::frame::ReceiverSlice;
+use crate::frame::{ReceiverSlice, ReceiverSlices};
 use crate::types::RECEIVER_SLICES;
 
 /// Threads per workgroup side (`@workgroup_size(8, 8)` in `reduce.wgsl`).
@@ -22,8 +23,11 @@ pub(crate) struct DepthReduce {
 /// Words per slice (`SLICE_WORDS` in `reduce.wgsl`): min x, y, z, max x, y, z, greatest depth.
 const SLICE_WORDS: usize = 7;
 
-/// Bytes of the slices' words (`slices` in `reduce.wgsl`).
-pub(crate) const SLICES_BYTES: u32 = (RECEIVER_SLICES * SLICE_WORDS * 4) as u32;
+/// Words of the slices, of every facing axis (`slices` in `reduce.wgsl`).
+const WORDS: usize = 3 * RECEIVER_SLICES * SLICE_WORDS;
+
+/// Bytes of the slices' words.
+pub(crate) const SLICES_BYTES: u32 = (WORDS * 4) as u32;
 
 /// One frame's reduction: its result buffers (two u32 words, f32 bits; the slices' ordered
 /// words, read back only where they were asked for).
@@ -61,6 +65,14 @@ impl DepthReduce {
                 ),
                 entry(2, storage),
                 entry(3, storage),
+                entry(
+                    4,
+                    wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                ),
             ],
         });
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -80,13 +92,14 @@ impl DepthReduce {
     }
 
     /// Records the reduction of `world` (`w × h`) for the camera at `eye` looking along the unit
-    /// `forward`, and of its receiver pixels into the slices between `planes` where given.
+    /// `forward`, and of its receiver pixels into the slices between `planes` where given, by the
+    /// axis their `normals` face.
     #[allow(clippy::too_many_arguments)]
     pub fn encode(
         &self,
         device: &wgpu::Device,
         enc: &mut wgpu::CommandEncoder,
-        world: &wgpu::Texture,
+        (world, normals): (&wgpu::Texture, &wgpu::Texture),
         (w, h): (u32, u32),
         eye: [f32; 3],
         forward: [f32; 3],
@@ -111,13 +124,14 @@ impl DepthReduce {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         });
         // Each slice's least words start at the greatest pattern, its greatest at 0.
-        let empty: [u32; RECEIVER_SLICES * SLICE_WORDS] = std::array::from_fn(|i| if i % SLICE_WORDS < 3 { u32::MAX } else { 0 });
+        let empty: [u32; WORDS] = std::array::from_fn(|i| if i % SLICE_WORDS < 3 { u32::MAX } else { 0 });
         let slices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("receiver slices"),
             contents: bytemuck::cast_slice(&empty),
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         });
         let texture_view = world.create_view(&wgpu::TextureViewDescriptor::default());
+        let normal_view = normals.create_view(&wgpu::TextureViewDescriptor::default());
         let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("reduce"),
             layout: &self.bgl,
@@ -126,6 +140,7 @@ impl DepthReduce {
                 wgpu::BindGroupEntry { binding: 1, resource: uniform.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 2, resource: range.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 3, resource: slices.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(&normal_view) },
             ],
         });
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("reduce"), timestamp_writes: None });
@@ -149,18 +164,22 @@ fn unordered(k: u32) -> f32 {
     f32::from_bits(if k >> 31 == 1 { k & 0x7fff_ffff } else { !k })
 }
 
-/// The slices from their read-back words; a slice's `None` where no receiver pixel fell in it.
-pub(crate) fn decode_slices(bytes: &[u8]) -> [Option<ReceiverSlice>; RECEIVER_SLICES] {
+/// The slices from their read-back words, per facing axis; a slice's `None` where no receiver
+/// pixel fell in it.
+pub(crate) fn decode_slices(bytes: &[u8]) -> ReceiverSlices {
     let w: Vec<u32> = bytemuck::pod_collect_to_vec::<u8, u32>(bytes);
-    std::array::from_fn(|k| {
-        let s = w.get(k * SLICE_WORDS..(k + 1) * SLICE_WORDS)?;
-        // NOTE: untouched, a slice's least word is u32::MAX and its greatest 0; any pixel
-        // leaves least ≤ greatest, in the words' order as in the floats'.
-        (s[0] <= s[3]).then(|| ReceiverSlice {
-            min: [s[0], s[1], s[2]].map(unordered),
-            max: [s[3], s[4], s[5]].map(unordered),
-            far: unordered(s[6]),
-        })
+    std::array::from_fn(|axis| std::array::from_fn(|k| slice(&w, axis * RECEIVER_SLICES + k)))
+}
+
+/// Slice `i`'s words, decoded.
+fn slice(w: &[u32], i: usize) -> Option<ReceiverSlice> {
+    let s = w.get(i * SLICE_WORDS..(i + 1) * SLICE_WORDS)?;
+    // NOTE: untouched, a slice's least word is u32::MAX and its greatest 0; any pixel leaves
+    // least ≤ greatest, in the words' order as in the floats'.
+    (s[0] <= s[3]).then(|| ReceiverSlice {
+        min: [s[0], s[1], s[2]].map(unordered),
+        max: [s[3], s[4], s[5]].map(unordered),
+        far: unordered(s[6]),
     })
 }
 
@@ -191,15 +210,16 @@ mod tests {
 
     #[test]
     fn slices_decode_to_their_bounds_or_nothing() {
-        let mut w = [0u32; RECEIVER_SLICES * SLICE_WORDS];
-        for k in 0..RECEIVER_SLICES {
-            w[k * SLICE_WORDS..k * SLICE_WORDS + 3].fill(u32::MAX);
+        let mut w = [0u32; WORDS];
+        for i in 0..3 * RECEIVER_SLICES {
+            w[i * SLICE_WORDS..i * SLICE_WORDS + 3].fill(u32::MAX);
         }
         let filled = [-2.0f32, 0.5, -7.25, 3.0, 0.5, -1.0, 41.5].map(ordered);
-        w[5 * SLICE_WORDS..6 * SLICE_WORDS].copy_from_slice(&filled);
+        let i = RECEIVER_SLICES + 5;
+        w[i * SLICE_WORDS..(i + 1) * SLICE_WORDS].copy_from_slice(&filled);
         let s = decode_slices(bytemuck::cast_slice(&w));
-        assert_eq!(s.iter().filter(|s| s.is_some()).count(), 1);
-        assert_eq!(s[5], Some(ReceiverSlice { min: [-2.0, 0.5, -7.25], max: [3.0, 0.5, -1.0], far: 41.5 }));
+        assert_eq!(s.iter().flatten().filter(|s| s.is_some()).count(), 1);
+        assert_eq!(s[1][5], Some(ReceiverSlice { min: [-2.0, 0.5, -7.25], max: [3.0, 0.5, -1.0], far: 41.5 }));
     }
 
     #[test]
