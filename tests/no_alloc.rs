@@ -151,3 +151,32 @@ fn float_path_bodies_do_not_allocate() {
     eprintln!("{float_path} float-path bodies ({placed_exactly} with a vertex placed exactly), {exact_engine} from the exact engine");
     assert!(float_path > 3700 && placed_exactly > 50, "{float_path} float-path bodies, {placed_exactly} placed exactly");
 }
+
+#[test]
+fn gathering_visible_receivers_does_not_allocate() {
+    // A frame's points of every facing and none, more boxes than allowed
+    // merged down, the boxes taken: no allocation.
+    let cam = Camera {
+        eye: DVec3::new(0.0, 2.0, 0.0),
+        forward: DVec3::new(0.0, -0.2, 1.0),
+        up: DVec3::Y,
+        fovy: 1.0,
+        aspect: 1.5,
+        near: 0.5,
+        far: 400.0,
+    };
+    let normals = [DVec3::X, DVec3::Y, DVec3::Z];
+    let before = allocations();
+    let mut v = VisibleReceivers::new(&cam, 180).unwrap();
+    for i in 0..20_000 {
+        let t = i as f64 / 20_000.0;
+        let p = DVec3::new((i % 97) as f64 - 48.0, (i % 13) as f64 * 0.7, 0.6 * 400f64.powf(t));
+        match i % 4 {
+            3 => v.add(p),
+            k => v.add_facing(p, normals[k]),
+        }
+    }
+    let boxes = v.boxes(1e-3).unwrap();
+    assert_eq!(allocations() - before, 0);
+    assert_eq!(boxes.as_slice().len(), MAX_RECEIVER_BOXES, "the merge down to 16 ran");
+}

@@ -69,18 +69,19 @@ const AUTO_SLICE_LIMIT: f64 = 1.25;
 /// seen from above under a sun beside the view).
 const UNUSUAL_CAMERA_LIMIT: f64 = 1.2;
 /// Largest p95 and maximum of four warped splits over the four uniform ones
-/// (`uniform4`), on the visible receivers (measured: at most 1.40×, Auto's
-/// p95 on the huge chessboard under a 35° sun; 1.29× without any hint,
-/// TSM's on the robot war). A configuration's figure is not a stable
-/// quantity there: a 1 µm move of the camera changes the four splits'
-/// maximum by up to 1.57× on the visible receivers (`crates/eval/RESULTS.md`,
-/// "Small moves"), so the limit bounds that envelope, and
-/// `VISIBLE_SPLIT_MEAN_LIMIT` the average.
-const VISIBLE_SPLIT_LIMIT: f64 = 1.6;
+/// (`uniform4`), on the visible receivers gathered by facing (measured: at
+/// most 1.17×, PSM's on the huge chessboard, the same after a 1 µm move of
+/// the camera; 1.40× without the normals, 1.29× without any hint, TSM's on
+/// the robot war). A configuration's figure is one draw: a 1 µm move of
+/// the camera changes the four splits' maximum by up to 1.4× on these two
+/// scenes (`crates/eval/RESULTS.md`, "Small moves"), so
+/// `VISIBLE_SPLIT_MEAN_LIMIT` bounds the average too.
+const VISIBLE_SPLIT_LIMIT: f64 = 1.3;
 /// Largest geometric mean, over a method's configurations, of its four
 /// splits' p95 and maximum over the uniform ones' on the visible receivers:
-/// warps no worse than the uniform maps on average (measured 0.957–0.998
-/// over the two scenes, with and without a 1 µm move of the camera).
+/// warps no worse than the uniform maps on average (measured 0.956–0.995;
+/// without the normals 0.957–0.998, with and without a 1 µm move of the
+/// camera).
 const VISIBLE_SPLIT_MEAN_LIMIT: f64 = 1.02;
 /// Most a 1 µm move of the camera changes four splits' maximum or p95
 /// without receiver hints (measured: at most 1.048× on the huge chessboard,
