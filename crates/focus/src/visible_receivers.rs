@@ -520,7 +520,7 @@ mod tests {
         let pts = pixels(&cam, |x, z| 0.7 * (0.4 * x).sin() * (0.3 * z).cos() - 1.0);
         let f = cam.basis().unwrap().forward;
         let mut exact = VisibleReceivers::new(&cam, HEIGHT).unwrap();
-        let mut reduced = [(Aabb { min: DVec3::INFINITY, max: DVec3::NEG_INFINITY }, f64::NEG_INFINITY); MAX_RECEIVER_BOXES];
+        let mut reduced = [(EMPTY, f64::NEG_INFINITY); MAX_RECEIVER_BOXES];
         for p in &pts {
             exact.add(*p);
             let z = (*p - cam.eye).dot(f);
