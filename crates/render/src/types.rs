@@ -385,7 +385,8 @@ pub struct RenderSettings {
     /// Run the GPU passes this many times and report the fastest (≥ 1).
     pub timing_repeats: u32,
     /// The view depths between [`RECEIVER_SLICES`] slices of the view, ascending: reduce the
-    /// receiver pixels' world positions into each slice's bounds and greatest depth on the GPU
+    /// receiver pixels' world positions into each slice's bounds and greatest depth on the GPU,
+    /// apart for each world axis their normal lies closest to
     /// ([`crate::RenderOutput::receiver_slices`]; slice `k` holds the depths in
     /// `[planes[k − 1], planes[k])`). `None`: no such reduction.
     pub receiver_slices: Option<[f32; RECEIVER_SLICES - 1]>,
