@@ -166,7 +166,8 @@ fn checked_bounds(boxes: impl Iterator<Item = Aabb>) -> Result<Option<(Aabb, usi
     Ok(out)
 }
 
-fn union(a: &Aabb, b: &Aabb) -> Aabb {
+/// The bounding box of `a` and `b`.
+pub(crate) fn union(a: &Aabb, b: &Aabb) -> Aabb {
     Aabb { min: a.min.min(b.min), max: a.max.max(b.max) }
 }
 

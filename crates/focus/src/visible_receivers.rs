@@ -53,7 +53,7 @@
 //!   what comes into view in between is not in them.
 
 use crate::error::FocusError;
-use crate::receiver_boxes::{ReceiverBoxes, MAX_RECEIVER_BOXES};
+use crate::receiver_boxes::{union, ReceiverBoxes, MAX_RECEIVER_BOXES};
 use glam::DVec3;
 use shadowfocus_geom::{Aabb, Camera};
 
@@ -348,10 +348,6 @@ fn snap(b: &Aabb, grid: f64) -> Aabb {
         return *b;
     }
     Aabb { min: (b.min / grid).floor() * grid, max: (b.max / grid).ceil() * grid }
-}
-
-fn union(a: &Aabb, b: &Aabb) -> Aabb {
-    Aabb { min: a.min.min(b.min), max: a.max.max(b.max) }
 }
 
 /// Whether a box is flat: thinner along one axis than [`FLAT`] of its
